@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Installs everything the project needs on a Debian 12 machine:
+#  - Debian packages (compilers, cmocka, cJSON, QEMU, ...)
+#  - a Python virtual environment in .venv/ with the PyPI packages of tools/
+# Idempotent: prints nothing and changes nothing when all is present.
+set -euo pipefail
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+
+debian_packages=(
+  cmake ninja-build gcc pkg-config
+  gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi
+  libcmocka-dev libcjson-dev
+  qemu-system-arm
+)
+
+missing=()
+for p in "${debian_packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]})); then
+  if [[ $(id -u) -eq 0 ]]; then
+    sudo=()
+  elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+    sudo=(sudo -n)
+  else
+    echo "setup: missing Debian packages: ${missing[*]}" >&2
+    echo "setup: run this script as root (or with passwordless sudo) to install them" >&2
+    exit 1
+  fi
+  echo "setup: installing ${missing[*]}"
+  "${sudo[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# Python tools (plots, CAN telemetry) live in a virtual environment.
+venv="$repo/.venv"
+requirements="$repo/tools/requirements.txt"
+stamp="$venv/.requirements.installed"
+if [[ ! -x "$venv/bin/python" ]]; then
+  echo "setup: creating Python virtual environment in .venv"
+  python3 -m venv "$venv"
+fi
+if [[ ! -f "$stamp" ]] || ! cmp -s "$requirements" "$stamp"; then
+  echo "setup: installing Python packages from tools/requirements.txt"
+  "$venv/bin/pip" install --quiet --disable-pip-version-check -r "$requirements"
+  cp "$requirements" "$stamp"
+fi
