@@ -1,0 +1,99 @@
+/*
+ * Discrete PI controller with output limits and anti-windup, float32.
+ *
+ * Units: error in unit E, output in unit U (e.g. A -> V for a current loop,
+ * rad/s -> A for a speed loop); kp in U/E, ki_per_s in U/(E*s), Ts_s in s.
+ *
+ * Discretisation (backward-Euler integrator, integrate then output):
+ *   I_k = I_{k-1} + ki*Ts*e_k,   u_k = kp*e_k + I_k
+ * so for a constant error e from I_{-1} = 0 and no saturation:
+ *   u_k = kp*e + ki*Ts*e*(k+1).
+ *
+ * Anti-windup: conditional integration ("clamping") plus an integrator bound.
+ *  1. If the unclamped output would exceed a limit AND the error pushes
+ *     further into that limit, the integrator advances only up to the value
+ *     that puts the output on the limit (out_max - kp*e resp.
+ *     out_min - kp*e), and is never moved backwards by this rule. So the
+ *     output does reach the limit, and the integrator holds no more than
+ *     the limit needs.
+ *  2. The integrator state is always kept inside [out_min, out_max].
+ *  3. The output is clamped to [out_min, out_max].
+ * Why this scheme: no extra tuning gain (back-calculation needs a tracking
+ * time constant), a handful of compares, valid when the limits change every
+ * sample (current loops with a DC-link-dependent voltage limit), and a hard
+ * recovery bound: because the integrator never exceeds the limit, the first
+ * sample whose error has the opposite sign (e < 0 after sitting at out_max,
+ * e > 0 after out_min) already brings the output strictly inside the limits
+ * (requires kp + ki*Ts > 0, guaranteed by init).
+ *
+ * Non-finite error: step returns NaN and leaves the state unchanged (the
+ * caller's fault handling sees it); it is never mapped to a finite value.
+ */
+#ifndef MC_PI_H
+#define MC_PI_H
+
+#include <math.h>
+
+#include "mc/status.h"
+
+typedef struct {
+    float kp;         /* proportional gain, U/E */
+    float ki_Ts;      /* integral gain times sample time, U/E per sample */
+    float out_min;    /* lower output limit, U */
+    float out_max;    /* upper output limit, U */
+    float integrator; /* integrator state I, U */
+} mc_pi_f32_t;
+
+/* Set gains and limits, integrator to 0 clamped into the limits.
+ * Rejects (MC_ERR_NONFINITE / MC_ERR_PARAM, *pi untouched): non-finite
+ * argument, kp < 0, ki_per_s < 0, kp == ki_per_s*Ts_s == 0, Ts_s <= 0,
+ * out_min >= out_max, ki_per_s*Ts_s not finite. Not ISR-safe by intent
+ * (configuration), though it has no side effects beyond *pi. */
+mc_status_t mc_pi_f32_init(mc_pi_f32_t *pi, float kp, float ki_per_s,
+                           float Ts_s, float out_min, float out_max);
+
+/* Set the integrator (bumpless start: pass the output you want now with
+ * zero error). Clamped into [out_min, out_max] by the next step; a
+ * non-finite value makes every later step return NaN until the next reset.
+ * ISR-safe. */
+void mc_pi_f32_reset(mc_pi_f32_t *pi, float integrator);
+
+/* Change the output limits (may be called every sample). Rejects non-finite
+ * limits or out_min >= out_max (state untouched). ISR-safe. */
+mc_status_t mc_pi_f32_set_limits(mc_pi_f32_t *pi, float out_min,
+                                 float out_max);
+
+/* One controller sample; returns the limited output u_k. ISR-safe,
+ * bounded time, no division. */
+static inline float mc_pi_f32_step(mc_pi_f32_t *pi, float error)
+{
+    if (!isfinite(error)) {
+        return NAN;
+    }
+    const float p_term = pi->kp * error;
+    float integ = pi->integrator + pi->ki_Ts * error;
+    /* 1. conditional integration: stop where the output meets the limit */
+    if (error > 0.0f && p_term + integ > pi->out_max) {
+        const float to_limit = pi->out_max - p_term;
+        integ = (to_limit > pi->integrator) ? to_limit : pi->integrator;
+    } else if (error < 0.0f && p_term + integ < pi->out_min) {
+        const float to_limit = pi->out_min - p_term;
+        integ = (to_limit < pi->integrator) ? to_limit : pi->integrator;
+    }
+    /* 2. integrator bound (explicit compares so that NaN propagates) */
+    if (integ > pi->out_max) {
+        integ = pi->out_max;
+    } else if (integ < pi->out_min) {
+        integ = pi->out_min;
+    }
+    pi->integrator = integ;
+    float u = p_term + integ;
+    if (u > pi->out_max) { /* 3. output limit */
+        u = pi->out_max;
+    } else if (u < pi->out_min) {
+        u = pi->out_min;
+    }
+    return u;
+}
+
+#endif /* MC_PI_H */

@@ -1,0 +1,185 @@
+/*
+ * Angle utilities: wrap, sin/cos, atan2, unwrap operator A. See mc/angle.h.
+ *
+ * Range reduction (Cody-Waite): the period P (2*pi for wrapping, pi/2 for
+ * sin/cos) is split as P = P1 + P2 + P3 where P1 and P2 have so few
+ * significant bits that k*P1 and k*P2 are exact floats for every k the
+ * accepted range can produce, and P3 is the float nearest the remainder.
+ * theta - k*P1 is then exact (Sterbenz), the next subtraction is exact by
+ * the quantum argument (both operands are multiples of the last bit of P2
+ * and the result is below 2^24 such quanta), and only the final k*P3 term
+ * rounds: the reduction error is about one ulp of the result, independent of
+ * |theta| inside the accepted range.
+ *
+ * Polynomial coefficients: minimax (Remez, double precision) fits, rounded
+ * to float:
+ *   sin x = x + x^3 (S1 + S2 x^2 + S3 x^4)     on |x| <= pi/4, err 3.5e-9
+ *   cos x = 1 + x^2 (C1 + C2 x^2 + C3 x^4)     on |x| <= pi/4, err 3.2e-8
+ *   atan t = t (A0 + A1 t^2 + ... + A6 t^12)   on 0 <= t <= 1, err 2.5e-7
+ * The float evaluation adds a few 1e-8; the totals are asserted in
+ * tests/unit/math/test_angle.c against MC_*_MAX_ERR in the header.
+ */
+#include "mc/angle.h"
+
+#include <math.h>
+
+/* 2*pi = TWO_PI_1 + TWO_PI_2 + TWO_PI_3: 8, 11 and 24 significant bits.
+ * |k| <= 25000/(2*pi) < 2^12, so k*TWO_PI_1 and k*TWO_PI_2 are exact. */
+#define TWO_PI_1 0x1.92p+2f
+#define TWO_PI_2 0x1.fb4p-10f
+#define TWO_PI_3 0x1.4442d2p-22f
+#define INV_TWO_PI 0.159154943091895335769f
+
+/* pi/2 = HALF_PI_1 + HALF_PI_2 + HALF_PI_3: 8, 9 and 23 significant bits.
+ * |k| <= 25000*2/pi < 2^14, so k*HALF_PI_1 and k*HALF_PI_2 are exact. */
+#define HALF_PI_1 0x1.92p+0f
+#define HALF_PI_2 0x1.fbp-12f
+#define HALF_PI_3 0x1.5110b4p-22f
+#define TWO_BY_PI 0.636619772367581343076f
+
+#define SIN_S1 -1.666665524e-01f
+#define SIN_S2 8.332100697e-03f
+#define SIN_S3 -1.950396254e-04f
+#define COS_C1 -4.999989569e-01f
+#define COS_C2 4.165629297e-02f
+#define COS_C3 -1.359782298e-03f
+
+#define ATAN_A0 9.999961257e-01f
+#define ATAN_A1 -3.331736922e-01f
+#define ATAN_A2 1.980781555e-01f
+#define ATAN_A3 -1.323334128e-01f
+#define ATAN_A4 7.962366939e-02f
+#define ATAN_A5 -3.360421583e-02f
+#define ATAN_A6 6.811792031e-03f
+
+/* Nearest integer of x for |x| < 2^23 (no rintf: the M4F has no VRINT). */
+static int32_t round_to_i32(float x)
+{
+    return (int32_t)(x + ((x >= 0.0f) ? 0.5f : -0.5f));
+}
+
+static float reduce_two_pi(float theta_rad, int32_t k)
+{
+    const float k_f = (float)k;
+    return ((theta_rad - k_f * TWO_PI_1) - k_f * TWO_PI_2) - k_f * TWO_PI_3;
+}
+
+float mc_wrap_pi_f32(float theta_rad)
+{
+    if (!(fabsf(theta_rad) <= MC_ANGLE_MAX_ABS_RAD)) { /* also NaN */
+        return NAN;
+    }
+    if (fabsf(theta_rad) <= MC_PI_F) {
+        return (theta_rad == -MC_PI_F) ? MC_PI_F : theta_rad;
+    }
+    int32_t k = round_to_i32(theta_rad * INV_TWO_PI);
+    float r = reduce_two_pi(theta_rad, k);
+    /* The product theta/(2 pi) rounds, so k can be one off next to an odd
+     * multiple of pi: correct once (the reduction itself is exact). */
+    if (r > MC_PI_F) {
+        r = reduce_two_pi(theta_rad, k + 1);
+    } else if (r < -MC_PI_F) {
+        r = reduce_two_pi(theta_rad, k - 1);
+    }
+    return (r <= -MC_PI_F) ? MC_PI_F : r;
+}
+
+void mc_sincos_f32(float theta_rad, float *sin_out, float *cos_out)
+{
+    if (!(fabsf(theta_rad) <= MC_ANGLE_MAX_ABS_RAD)) { /* also NaN */
+        *sin_out = NAN;
+        *cos_out = NAN;
+        return;
+    }
+    const int32_t k = round_to_i32(theta_rad * TWO_BY_PI);
+    const float k_f = (float)k;
+    const float x =
+        ((theta_rad - k_f * HALF_PI_1) - k_f * HALF_PI_2) - k_f * HALF_PI_3;
+    const float x2 = x * x;
+    const float s = x + x * x2 * (SIN_S1 + x2 * (SIN_S2 + x2 * SIN_S3));
+    const float c = 1.0f + x2 * (COS_C1 + x2 * (COS_C2 + x2 * COS_C3));
+    /* theta = k*pi/2 + x: rotate (s, c) by the quadrant k mod 4. */
+    switch ((uint32_t)k & 3u) {
+    case 0u:
+        *sin_out = s;
+        *cos_out = c;
+        break;
+    case 1u:
+        *sin_out = c;
+        *cos_out = -s;
+        break;
+    case 2u:
+        *sin_out = -s;
+        *cos_out = -c;
+        break;
+    default:
+        *sin_out = -c;
+        *cos_out = s;
+        break;
+    }
+}
+
+float mc_atan2_f32(float y, float x)
+{
+    if (!isfinite(x) || !isfinite(y)) {
+        return NAN;
+    }
+    const float abs_x = fabsf(x);
+    const float abs_y = fabsf(y);
+    const float big = (abs_x >= abs_y) ? abs_x : abs_y;
+    const float small = (abs_x >= abs_y) ? abs_y : abs_x;
+    if (big == 0.0f) {
+        return 0.0f; /* documented convention for the zero vector */
+    }
+    const float t = small / big; /* guarded: big > 0; t in [0, 1] */
+    const float t2 = t * t;
+    float a = t * (ATAN_A0 +
+                   t2 * (ATAN_A1 +
+                         t2 * (ATAN_A2 +
+                               t2 * (ATAN_A3 +
+                                     t2 * (ATAN_A4 +
+                                           t2 * (ATAN_A5 + t2 * ATAN_A6))))));
+    if (abs_y > abs_x) {
+        a = MC_HALF_PI_F - a; /* second octant */
+    }
+    if (x < 0.0f) {
+        a = MC_PI_F - a; /* left half plane */
+    }
+    return (y < 0.0f) ? -a : a;
+}
+
+mc_status_t mc_unwrap_f32_init(mc_unwrap_f32_t *u, float theta_wrapped_rad)
+{
+    u->turns = 0;
+    if (!isfinite(theta_wrapped_rad)) {
+        u->prev_wrapped_rad = 0.0f;
+        return MC_ERR_NONFINITE;
+    }
+    u->prev_wrapped_rad = theta_wrapped_rad;
+    return MC_OK;
+}
+
+float mc_unwrap_f32_step(mc_unwrap_f32_t *u, float theta_wrapped_rad)
+{
+    if (!isfinite(theta_wrapped_rad)) {
+        return NAN;
+    }
+    /* Operator A, corrected (see mc/angle.h): a sample-to-sample jump of
+     * more than pi is a crossing of the +-pi cut. */
+    const float step_rad = theta_wrapped_rad - u->prev_wrapped_rad;
+    int32_t turns = u->turns;
+    if (step_rad < -MC_PI_F) {
+        if (turns == INT32_MAX) {
+            return NAN;
+        }
+        turns += 1;
+    } else if (step_rad > MC_PI_F) {
+        if (turns == INT32_MIN) {
+            return NAN;
+        }
+        turns -= 1;
+    }
+    u->turns = turns;
+    u->prev_wrapped_rad = theta_wrapped_rad;
+    return theta_wrapped_rad + MC_TWO_PI_F * (float)turns;
+}

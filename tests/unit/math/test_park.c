@@ -1,0 +1,106 @@
+/*
+ * Park transforms against the rotation of a vector given in polar form:
+ * (alpha, beta) = M (cos psi, sin psi)  ->  (d, q) = M (cos(psi - theta),
+ * sin(psi - theta)), computed in double.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+
+#include "mc/angle.h"
+#include "mc/park.h"
+#include "test_rng.h"
+
+#define N_RANDOM 200000
+#define PI_D 3.14159265358979323846
+#define FLT_EPS_D 1.1920929e-7
+
+static void test_park_rotates_by_minus_theta(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(11);
+    for (int n = 0; n < N_RANDOM; n++) {
+        const double mag = test_rng_range(&rng, 0.0, 100.0);
+        const double psi = test_rng_range(&rng, -PI_D, PI_D);
+        const double theta = test_rng_range(&rng, -PI_D, PI_D);
+        float d, q;
+        mc_park_f32((float)(mag * cos(psi)), (float)(mag * sin(psi)),
+                    (float)sin(theta), (float)cos(theta), &d, &q);
+        const double tol = 4.0 * FLT_EPS_D * mag;
+        assert_true(fabs(d - mag * cos(psi - theta)) <= tol);
+        assert_true(fabs(q - mag * sin(psi - theta)) <= tol);
+        /* |v| preserved by the rotation */
+        assert_true(fabs(hypot(d, q) - mag) <= tol);
+    }
+}
+
+static void test_inv_park_rotates_by_plus_theta(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(12);
+    for (int n = 0; n < N_RANDOM; n++) {
+        const double mag = test_rng_range(&rng, 0.0, 100.0);
+        const double psi = test_rng_range(&rng, -PI_D, PI_D);
+        const double theta = test_rng_range(&rng, -PI_D, PI_D);
+        float alpha, beta;
+        mc_inv_park_f32((float)(mag * cos(psi)), (float)(mag * sin(psi)),
+                        (float)sin(theta), (float)cos(theta), &alpha, &beta);
+        const double tol = 4.0 * FLT_EPS_D * mag;
+        assert_true(fabs(alpha - mag * cos(psi + theta)) <= tol);
+        assert_true(fabs(beta - mag * sin(psi + theta)) <= tol);
+    }
+}
+
+/* Park then inverse Park with the firmware's own sincos (the way the fast
+ * loop uses them) returns the input within the sincos error bound. */
+static void test_park_round_trip_with_fast_sincos(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(13);
+    for (int n = 0; n < N_RANDOM; n++) {
+        const float alpha = (float)test_rng_range(&rng, -100.0, 100.0);
+        const float beta = (float)test_rng_range(&rng, -100.0, 100.0);
+        const float theta = (float)test_rng_range(&rng, -1.0e4, 1.0e4);
+        float s, c, d, q, alpha2, beta2;
+        mc_sincos_f32(theta, &s, &c);
+        mc_park_f32(alpha, beta, s, c, &d, &q);
+        mc_inv_park_f32(d, q, s, c, &alpha2, &beta2);
+        const double mag = hypot(alpha, beta);
+        /* R(theta) R(-theta) = (s^2 + c^2) I; |s^2 + c^2 - 1| <=
+         * 2 * 1.0 * MC_SINCOS_MAX_ABS_ERR (+ rounding) */
+        const double tol = mag * (4.0 * MC_SINCOS_MAX_ABS_ERR + 8.0 * FLT_EPS_D);
+        assert_true(fabs(alpha2 - alpha) <= tol);
+        assert_true(fabs(beta2 - beta) <= tol);
+    }
+}
+
+/* Dense grid: a fixed vector seen from every angle on a 1e-4 rad grid. */
+static void test_park_dense_angle_grid(void **state)
+{
+    (void)state;
+    const double mag = 7.5;
+    const double psi = 0.3;
+    for (double theta = -PI_D; theta <= PI_D; theta += 1e-4) {
+        float d, q;
+        mc_park_f32((float)(mag * cos(psi)), (float)(mag * sin(psi)),
+                    (float)sin(theta), (float)cos(theta), &d, &q);
+        const double tol = 4.0 * FLT_EPS_D * mag;
+        assert_true(fabs(d - mag * cos(psi - theta)) <= tol);
+        assert_true(fabs(q - mag * sin(psi - theta)) <= tol);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_park_rotates_by_minus_theta),
+        cmocka_unit_test(test_inv_park_rotates_by_plus_theta),
+        cmocka_unit_test(test_park_round_trip_with_fast_sincos),
+        cmocka_unit_test(test_park_dense_angle_grid),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
