@@ -1,0 +1,351 @@
+/* The fast ISR: sample, protect, estimate, control, write duties; the state
+ * machine and fault latching (see mc/app.h). */
+#include <math.h>
+
+#include "app_internal.h"
+#include "hal/adc.h"
+#include "hal/encoder.h"
+#include "hal/gpio.h"
+#include "hal/pwm.h"
+#include "hal/time.h"
+#include "mc/angle.h"
+#include "mc/circle_limit.h"
+#include "mc/clarke.h"
+#include "mc/park.h"
+#include "mc/svpwm.h"
+
+#define MC_DUTY_ZERO_VOLTAGE 0.5f
+
+static void outputs_off(void)
+{
+    hal_pwm_disable_outputs();
+    hal_gpio_power_stage_enable(false);
+}
+
+/* Latch faults; from any other state the PWM goes off right here. */
+static void raise_faults(mc_app_t *app, uint32_t faults)
+{
+    if (faults == MC_FAULT_NONE) {
+        return;
+    }
+    app->faults_latched |= faults;
+    if (app->state != MC_STATE_FAULT) {
+        outputs_off();
+        app->state = MC_STATE_FAULT;
+        app->enable_armed = false;
+    }
+}
+
+/* Angle source (config enum): theta_e, theta_m, omega_m into *t. */
+static uint32_t estimate(mc_app_t *app, uint32_t count, mc_telemetry_t *t)
+{
+    switch (app->cfg.angle_source) {
+    case MC_ANGLE_SOURCE_ENCODER: {
+        mc_encoder_estimate_t est;
+        if (mc_encoder_tracker_update(&app->encoder, count, &est) != MC_OK) {
+            return MC_FAULT_ENCODER;
+        }
+        t->theta_e_rad = est.theta_e_rad;
+        t->theta_m_rad = est.theta_m_rad;
+        t->omega_m_rad_s = est.omega_m_rad_s;
+        break;
+    }
+    default:
+        return MC_FAULT_NONFINITE; /* unreachable: init validates the enum */
+    }
+    const float e[] = { t->theta_e_rad, t->theta_m_rad, t->omega_m_rad_s };
+    return mc_all_finite_f32(e, 3u) ? MC_FAULT_NONE : MC_FAULT_NONFINITE;
+}
+
+static void start_run(mc_app_t *app)
+{
+    mc_current_loop_reset_f32(&app->current);
+    mc_speed_loop_reset_f32(&app->speed);
+    app->slow_counter = 0u;
+    app->i_d_ref_A = 0.0f;
+    app->i_q_ref_A = 0.0f;
+    app->omega_m_ref_rad_s = 0.0f;
+    app->mode = app->cmd.mode;
+    app->state = MC_STATE_RUN;
+}
+
+/* Offset calibration with the PWM off: average calib_samples raw samples. */
+static uint32_t calibrate(mc_app_t *app, const float i_raw_A[3])
+{
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        app->calib_sum_A[k] += i_raw_A[k];
+    }
+    if (++app->calib_count < app->cfg.calib_samples) {
+        return MC_FAULT_NONE;
+    }
+    const float inv_n = 1.0f / (float)app->cfg.calib_samples;
+    uint32_t faults = MC_FAULT_NONE;
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        const float offset = app->calib_sum_A[k] * inv_n;
+        if (!isfinite(offset)) {
+            faults |= MC_FAULT_NONFINITE;
+        } else if (fabsf(offset) > app->cfg.i_offset_max_A) {
+            faults |= MC_FAULT_CALIBRATION;
+        } else {
+            app->i_offset_A[k] = offset;
+        }
+    }
+    if (faults == MC_FAULT_NONE) {
+        start_run(app);
+    }
+    return faults;
+}
+
+/* Outer loops: the current references of this ISR. Speed and position run
+ * every speed_loop_decimation-th call; current mode follows the command
+ * every call. */
+static void references(mc_app_t *app, const mc_command_t *cmd,
+                       const mc_telemetry_t *t)
+{
+    if (cmd->mode != app->mode) {
+        mc_speed_loop_reset_f32(&app->speed);
+        app->slow_counter = 0u;
+        app->mode = cmd->mode;
+    }
+    if (cmd->mode == MC_MODE_CURRENT) {
+        app->i_d_ref_A = cmd->i_d_ref_A;
+        app->i_q_ref_A = cmd->i_q_ref_A;
+        app->omega_m_ref_rad_s = 0.0f;
+        /* |i_dq_ref| <= i_max (a documented limit; NaN stays NaN). */
+        (void)mc_circle_limit_f32(&app->i_d_ref_A, &app->i_q_ref_A,
+                                  app->cfg.i_max_A);
+        return;
+    }
+    const bool slow_tick = (app->slow_counter == 0u);
+    if (++app->slow_counter >= app->cfg.speed_loop_decimation) {
+        app->slow_counter = 0u;
+    }
+    if (!slow_tick) {
+        return;
+    }
+    float w_ref;
+    if (cmd->mode == MC_MODE_POSITION) {
+        w_ref = mc_position_loop_step_f32(&app->position, cmd->theta_m_ref_rad,
+                                          t->theta_m_rad);
+    } else {
+        const float w_max = app->cfg.omega_max_rad_s;
+        w_ref = cmd->omega_m_ref_rad_s;
+        w_ref = (w_ref > w_max) ? w_max : ((w_ref < -w_max) ? -w_max : w_ref);
+    }
+    app->omega_m_ref_rad_s = w_ref;
+    app->i_d_ref_A = 0.0f; /* surface PMSM: no reluctance torque */
+    app->i_q_ref_A = mc_speed_loop_step_f32(&app->speed, w_ref,
+                                            t->omega_m_rad_s);
+}
+
+/* sin and cos of the controller's electrical angle. */
+typedef struct {
+    float s, c;
+} mc_sincos_t;
+
+/* Measured d/q currents (Clarke, Park) for control and telemetry. */
+static void measure_dq(mc_telemetry_t *t, mc_sincos_t *sc)
+{
+    mc_sincos_f32(t->theta_e_rad, &sc->s, &sc->c);
+    float i_al;
+    float i_be;
+    mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &i_al, &i_be);
+    mc_park_f32(i_al, i_be, sc->s, sc->c, &t->i_d_A, &t->i_q_A);
+}
+
+/* Baseline cascaded FOC: d/q PI + decoupling, inverse Park, SVPWM.
+ * Fills the voltages and duties of *t. */
+static uint32_t control_foc_pi(mc_app_t *app, const mc_sincos_t *sc,
+                               mc_telemetry_t *t)
+{
+    const float omega_e = (float)app->cfg.pole_pairs * t->omega_m_rad_s;
+    mc_current_loop_out_t v;
+    const mc_status_t st = mc_current_loop_step_f32(
+        &app->current, t->i_d_A, t->i_q_A, t->i_d_ref_A, t->i_q_ref_A,
+        omega_e, t->v_dc_V, &v);
+    if (st == MC_ERR_RANGE) {
+        return MC_FAULT_DC_UNDERVOLTAGE; /* v_dc <= 0 with v_dc_min_V = 0 */
+    }
+    if (st != MC_OK) {
+        return MC_FAULT_NONFINITE;
+    }
+    t->v_d_V = v.v_d_V;
+    t->v_q_V = v.v_q_V;
+    t->v_saturated = v.saturated;
+
+    float v_al;
+    float v_be;
+    mc_inv_park_f32(v.v_d_V, v.v_q_V, sc->s, sc->c, &v_al, &v_be);
+    mc_svpwm_out_f32_t pwm;
+    if (mc_svpwm_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm) !=
+        MC_OK) {
+        return MC_FAULT_NONFINITE;
+    }
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        t->duty_abc[k] = pwm.duty[k];
+    }
+    return MC_FAULT_NONE;
+}
+
+static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
+                    const mc_sincos_t *sc, mc_telemetry_t *t)
+{
+    references(app, cmd, t);
+    t->i_d_ref_A = app->i_d_ref_A;
+    t->i_q_ref_A = app->i_q_ref_A;
+    t->omega_m_ref_rad_s = app->omega_m_ref_rad_s;
+    t->theta_m_ref_rad = cmd->theta_m_ref_rad;
+
+    uint32_t faults;
+    switch (app->cfg.controller) {
+    case MC_CONTROLLER_FOC_PI:
+        faults = control_foc_pi(app, sc, t);
+        break;
+    default:
+        faults = MC_FAULT_NONFINITE; /* unreachable: init validates it */
+        break;
+    }
+    /* Non-finite anywhere in references or outputs is a fault. */
+    const float x[] = { t->i_d_ref_A, t->i_q_ref_A, t->omega_m_ref_rad_s,
+                        t->i_d_A, t->i_q_A, t->v_d_V, t->v_q_V,
+                        t->duty_abc[0], t->duty_abc[1], t->duty_abc[2] };
+    if (!mc_all_finite_f32(x, (uint32_t)(sizeof x / sizeof x[0]))) {
+        faults |= MC_FAULT_NONFINITE;
+    }
+    if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {
+        faults |= MC_FAULT_NONFINITE;
+    }
+    return faults;
+}
+
+/* State transitions and actions of this ISR (after the protection). */
+static void state_machine(mc_app_t *app, const mc_command_t *cmd,
+                          const float i_raw_A[3], uint32_t active,
+                          const mc_sincos_t *sc, mc_telemetry_t *t)
+{
+    const bool clear_edge = cmd->clear_fault && !app->clear_prev;
+    app->clear_prev = cmd->clear_fault;
+    if (!cmd->enable) {
+        app->enable_armed = true;
+    }
+    switch (app->state) {
+    case MC_STATE_IDLE:
+        if (cmd->enable && app->enable_armed) {
+            app->calib_count = 0u;
+            for (uint32_t k = 0u; k < 3u; ++k) {
+                app->calib_sum_A[k] = 0.0f;
+            }
+            app->state = MC_STATE_CALIBRATING;
+        }
+        break;
+    case MC_STATE_CALIBRATING:
+        if (!cmd->enable) {
+            app->state = MC_STATE_IDLE;
+        } else {
+            raise_faults(app, calibrate(app, i_raw_A));
+        }
+        break;
+    case MC_STATE_RUN:
+        if (!cmd->enable) {
+            app->state = MC_STATE_IDLE;
+        } else {
+            raise_faults(app, run(app, cmd, sc, t));
+        }
+        break;
+    case MC_STATE_FAULT:
+    default:
+        if (clear_edge && active == MC_FAULT_NONE) {
+            app->faults_latched = MC_FAULT_NONE;
+            app->state = MC_STATE_IDLE;
+        }
+        break;
+    }
+}
+
+void mc_app_fast_isr(mc_app_t *app)
+{
+    const uint32_t t_start = hal_cycle_counter();
+    hal_gpio_debug_pin_set(true);
+    app->isr_count++;
+    app->cmd = app->cmd_buf[app->cmd_index & 1u];
+    const mc_command_t *cmd = &app->cmd;
+
+    /* Sample (converted at this period's PWM centre). */
+    hal_adc_sample_t adc;
+    hal_adc_read(&adc);
+    const uint32_t count = hal_encoder_count();
+    mc_telemetry_t t = {
+        .v_dc_V = adc.v_dc_V,
+        .duty_abc = { MC_DUTY_ZERO_VOLTAGE, MC_DUTY_ZERO_VOLTAGE,
+                      MC_DUTY_ZERO_VOLTAGE },
+    };
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        t.i_abc_A[k] = adc.i_abc_A[k] - app->i_offset_A[k];
+    }
+
+    /* Protect and estimate: the causes present now. Under-voltage is not
+     * checked in IDLE (the bus may be legitimately down while the drive is
+     * off); in FAULT it is, so a clear waits for the bus to recover. */
+    const bool check_uv = (app->state != MC_STATE_IDLE);
+    uint32_t active = mc_faults_check_sample(&app->cfg.fault_limits,
+                                             t.i_abc_A, t.v_dc_V, check_uv);
+    if (hal_gpio_fault_input_active()) {
+        active |= MC_FAULT_EXTERNAL;
+    }
+    if (app->overrun_streak >= app->cfg.isr_overrun_limit) {
+        active |= MC_FAULT_ISR_OVERRUN; /* still overrunning */
+    }
+    active |= estimate(app, count, &t);
+    mc_sincos_t sc;
+    measure_dq(&t, &sc);
+    raise_faults(app, active);
+
+    /* Transitions, calibration, control. */
+    state_machine(app, cmd, adc.i_abc_A, active, &sc, &t);
+
+    /* Write: duties for the next period, or everything off. */
+    if (app->state == MC_STATE_RUN) {
+        hal_pwm_set_duties(t.duty_abc);
+        hal_pwm_enable_outputs();
+        hal_gpio_power_stage_enable(true);
+    } else {
+        outputs_off();
+        for (uint32_t k = 0u; k < 3u; ++k) {
+            t.duty_abc[k] = MC_DUTY_ZERO_VOLTAGE;
+        }
+        hal_pwm_set_duties(t.duty_abc);
+    }
+
+    /* Deadline check: counted; the limit-th consecutive overrun is a
+     * fault, PWM off in this ISR. */
+    const uint32_t cycles = hal_cycle_counter() - t_start;
+    app->isr_cost_s = (float)cycles * app->s_per_cycle;
+    if (app->isr_cost_s > app->isr_cost_max_s) {
+        app->isr_cost_max_s = app->isr_cost_s;
+    }
+    if (app->isr_cost_s > app->Ts_s) {
+        app->isr_overruns++;
+        app->overrun_streak++;
+        if (app->overrun_streak >= app->cfg.isr_overrun_limit) {
+            active |= MC_FAULT_ISR_OVERRUN;
+            raise_faults(app, MC_FAULT_ISR_OVERRUN);
+        }
+    } else {
+        app->overrun_streak = 0u;
+    }
+    hal_gpio_debug_pin_set(false);
+
+    t.isr_count = app->isr_count;
+    t.state = app->state;
+    t.mode = cmd->mode;
+    t.faults_latched = app->faults_latched;
+    t.faults_active = active;
+    t.outputs_enabled = hal_pwm_outputs_enabled();
+    t.isr_cost_s = app->isr_cost_s;
+    t.isr_cost_max_s = app->isr_cost_max_s;
+    t.isr_overruns = app->isr_overruns;
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        t.i_offset_abc_A[k] = app->i_offset_A[k];
+    }
+    mc_app_publish_telemetry(app, &t);
+}

@@ -1,0 +1,63 @@
+/* IDA-PBC speed controller, paper 001 eq. (11). See mc/idapbc.h. */
+#include "mc/idapbc.h"
+
+#include <math.h>
+
+float mc_idapbc_critical_damping_f32(uint32_t pole_pairs, float flux_Wb,
+                                     float kt_Nm_per_A, float L_H,
+                                     float J_kgm2)
+{
+    if (pole_pairs < 1u || !(flux_Wb > 0.0f) || !(kt_Nm_per_A > 0.0f) ||
+        !(L_H > 0.0f) || !(J_kgm2 > 0.0f) || !isfinite(flux_Wb) ||
+        !isfinite(kt_Nm_per_A) || !isfinite(L_H) || !isfinite(J_kgm2)) {
+        return NAN;
+    }
+    /* a^2 = 4 b c with a = r/L, b c = n_p Phi kt / (L J); J > 0 checked,
+     * the radicand is then positive (or +Inf/0 on overflow/underflow,
+     * which the caller's init rejects) */
+    return 2.0f * sqrtf((float)pole_pairs * flux_Wb * kt_Nm_per_A * L_H /
+                        J_kgm2);
+}
+
+mc_status_t mc_idapbc_init_f32(mc_idapbc_f32_t *ctl,
+                               const mc_idapbc_params_t *p)
+{
+    if (!isfinite(p->R_ohm) || !isfinite(p->L_H) || !isfinite(p->flux_Wb) ||
+        !isfinite(p->kt_Nm_per_A) || !isfinite(p->r_ohm)) {
+        return MC_ERR_NONFINITE;
+    }
+    if (p->R_ohm < 0.0f || p->L_H <= 0.0f || p->flux_Wb <= 0.0f ||
+        p->pole_pairs < 1u || p->kt_Nm_per_A <= 0.0f || p->r_ohm <= 0.0f) {
+        return MC_ERR_PARAM;
+    }
+    const float np = (float)p->pole_pairs;
+    const float inv_kt = 1.0f / p->kt_Nm_per_A; /* kt > 0 checked */
+    if (!isfinite(inv_kt)) {
+        return MC_ERR_PARAM;
+    }
+    ctl->R_minus_r_ohm = p->R_ohm - p->r_ohm;
+    ctl->L_np_over_kt = p->L_H * np * inv_kt;
+    ctl->np_flux_Wb = np * p->flux_Wb;
+    ctl->r_over_kt = p->r_ohm * inv_kt;
+    return MC_OK;
+}
+
+mc_status_t mc_idapbc_step_f32(const mc_idapbc_f32_t *ctl, float i_d_A,
+                               float i_q_A, float omega_m_ref_rad_s,
+                               float omega_m_hat_rad_s, float tau_L_hat_Nm,
+                               float *v_d_V, float *v_q_V)
+{
+    /* (11) with kt general (kt = n_p Phi in the paper) */
+    const float v_d = ctl->R_minus_r_ohm * i_d_A -
+                      ctl->L_np_over_kt * omega_m_hat_rad_s * tau_L_hat_Nm;
+    const float v_q = ctl->R_minus_r_ohm * i_q_A +
+                      ctl->np_flux_Wb * omega_m_ref_rad_s +
+                      ctl->r_over_kt * tau_L_hat_Nm;
+    /* any non-finite input propagates into v_d or v_q */
+    if (!isfinite(v_d) || !isfinite(v_q)) {
+        return MC_ERR_NONFINITE;
+    }
+    *v_d_V = v_d;
+    *v_q_V = v_q;
+    return MC_OK;
+}

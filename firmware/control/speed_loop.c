@@ -1,0 +1,50 @@
+/* Baseline speed PI (see mc/speed_loop.h). */
+#include "mc/speed_loop.h"
+
+#include <math.h>
+
+/* PI zero at w_s / MC_SPEED_ZERO_RATIO gives the critically damped double
+ * pole at -w_s/2 with an ideal current loop (see the header). */
+#define MC_SPEED_ZERO_RATIO 4.0f
+
+mc_status_t mc_speed_loop_init_f32(mc_speed_loop_f32_t *sl,
+                                   const mc_speed_loop_params_t *p)
+{
+    if (!isfinite(p->J_kgm2) || !isfinite(p->B_Nms) ||
+        !isfinite(p->k_t_Nm_per_A) || !isfinite(p->bandwidth_rad_s) ||
+        !isfinite(p->i_q_max_A) || !isfinite(p->Ts_s)) {
+        return MC_ERR_NONFINITE;
+    }
+    if (!(p->J_kgm2 > 0.0f) || p->B_Nms < 0.0f || !(p->k_t_Nm_per_A > 0.0f) ||
+        !(p->bandwidth_rad_s > 0.0f) || !(p->i_q_max_A > 0.0f) ||
+        !(p->Ts_s > 0.0f)) {
+        return MC_ERR_PARAM;
+    }
+    const float kp = p->J_kgm2 * p->bandwidth_rad_s / p->k_t_Nm_per_A;
+    const float ki = kp * p->bandwidth_rad_s / MC_SPEED_ZERO_RATIO;
+    const mc_status_t st = mc_pi_f32_init(&sl->pi, kp, ki, p->Ts_s,
+                                          -p->i_q_max_A, p->i_q_max_A);
+    if (st != MC_OK) {
+        return st;
+    }
+    sl->B_over_kt = p->B_Nms / p->k_t_Nm_per_A;
+    sl->i_q_max_A = p->i_q_max_A;
+    return MC_OK;
+}
+
+void mc_speed_loop_reset_f32(mc_speed_loop_f32_t *sl)
+{
+    mc_pi_f32_reset(&sl->pi, 0.0f);
+}
+
+float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl,
+                             float omega_m_ref_rad_s, float omega_m_rad_s)
+{
+    /* Friction feed-forward; the PI gets the room left within +-i_q_max. */
+    const float ff = sl->B_over_kt * omega_m_ref_rad_s;
+    if (mc_pi_f32_set_limits(&sl->pi, -sl->i_q_max_A - ff,
+                             sl->i_q_max_A - ff) != MC_OK) {
+        return NAN;
+    }
+    return ff + mc_pi_f32_step(&sl->pi, omega_m_ref_rad_s - omega_m_rad_s);
+}

@@ -1,0 +1,85 @@
+/*
+ * Baseline d/q current loop: two PI regulators with decoupling feed-forward
+ * and a circular voltage limit with anti-windup.
+ *
+ *   v_d = PI_d(i_d_ref - i_d) - omega_e * Lq * i_q
+ *   v_q = PI_q(i_q_ref - i_q) + omega_e * (Ld * i_d + psi)
+ *
+ * Voltage limit: |v_dq| <= v_max = m * v_dc / sqrt(3), m = modulation margin
+ * factor in (0, 1] (the SVPWM linear range is v_dc/sqrt(3)). The d axis has
+ * priority: v_d is limited to [-v_max, v_max], then v_q to
+ * +-sqrt(v_max^2 - v_d^2). Anti-windup: the PI output limits are set each
+ * sample to the room left after the feed-forward, so each integrator stops
+ * (clamps) exactly when its axis saturates.
+ *
+ * Gain design (pole-zero cancellation): the axis plant is 1/(L s + R); with
+ * kp = L * w_c and ki = R * w_c the open loop is w_c / s and the closed loop
+ * the first-order lag w_c / (s + w_c) (10-90 % rise time ln(9)/w_c), up to the
+ * 1.5-period computation + PWM delay, which is negligible for
+ * w_c * 1.5 * Ts << 1.
+ *
+ * Units: A, V, rad/s (electrical), H, ohm, Wb, s.
+ */
+#ifndef MC_CURRENT_LOOP_H
+#define MC_CURRENT_LOOP_H
+
+#include <stdbool.h>
+
+#include "mc/pi.h"
+#include "mc/status.h"
+
+/* PI gains of one axis: u = kp * e + ki_per_s * integral(e dt). */
+typedef struct {
+    float kp_V_per_A;
+    float ki_V_per_As;
+} mc_current_pi_gains_t;
+
+/* Design kp = L_H * w_c_rad_s, ki = R_ohm * w_c_rad_s (pole-zero
+ * cancellation, first-order closed loop of bandwidth w_c).
+ * Requires finite R_ohm >= 0, L_H > 0, w_c_rad_s > 0: MC_ERR_PARAM
+ * otherwise (MC_ERR_NONFINITE for NaN/Inf). Not for interrupt context. */
+mc_status_t mc_current_pi_design_f32(float R_ohm, float L_H, float w_c_rad_s,
+                                     mc_current_pi_gains_t *out);
+
+typedef struct {
+    float R_ohm;              /* nominal stator resistance */
+    float Ld_H, Lq_H;         /* nominal d/q inductances */
+    float psi_Wb;             /* nominal PM flux linkage */
+    float bandwidth_rad_s;    /* designed closed-loop bandwidth w_c */
+    float modulation_margin;  /* m in (0, 1]: v_max = m * v_dc / sqrt(3) */
+    float Ts_s;               /* sample period (PWM period) */
+} mc_current_loop_params_t;
+
+typedef struct {
+    mc_pi_f32_t pi_d, pi_q;
+    float Ld_H, Lq_H, psi_Wb;
+    float modulation_margin;
+} mc_current_loop_f32_t;
+
+/* Output of one step. */
+typedef struct {
+    float v_d_V, v_q_V;  /* limited voltage references */
+    bool saturated;      /* the voltage limit was active on either axis */
+} mc_current_loop_out_t;
+
+/* Validate the parameters, design the gains and reset the integrators.
+ * MC_ERR_PARAM / MC_ERR_NONFINITE on invalid parameters (the instance is
+ * then unusable). Not for interrupt context. */
+mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
+                                     const mc_current_loop_params_t *p);
+
+/* Zero both integrators. Callable from interrupt context: yes. */
+void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl);
+
+/* One sample: currents and references in A, omega_e in rad/s (electrical),
+ * v_dc in V. The caller checks its inputs for finiteness; v_dc_V must be
+ * > 0 (MC_ERR_RANGE otherwise, outputs zeroed, integrators untouched).
+ * Returns MC_ERR_NONFINITE if an output is not finite.
+ * Callable from interrupt context: yes (bounded: one sqrtf). */
+mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl,
+                                     float i_d_A, float i_q_A,
+                                     float i_d_ref_A, float i_q_ref_A,
+                                     float omega_e_rad_s, float v_dc_V,
+                                     mc_current_loop_out_t *out);
+
+#endif /* MC_CURRENT_LOOP_H */

@@ -1,0 +1,56 @@
+/*
+ * Fault codes and the protection checks of the fast ISR.
+ *
+ * Faults are bits of a uint32_t mask. mc_faults_check() evaluates the
+ * conditions of one sample (which causes are present NOW); the application
+ * latches them (mc/app.h): a latched fault disables the PWM outputs in the
+ * same ISR call and is cleared only by an explicit command once its cause is
+ * gone.
+ */
+#ifndef MC_FAULTS_H
+#define MC_FAULTS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "mc/status.h"
+
+typedef enum {
+    MC_FAULT_NONE            = 0u,
+    MC_FAULT_OVERCURRENT     = 1u << 0, /* |i_a|, |i_b| or |i_c| > trip level */
+    MC_FAULT_DC_OVERVOLTAGE  = 1u << 1, /* v_dc > v_dc_max_V */
+    MC_FAULT_DC_UNDERVOLTAGE = 1u << 2, /* v_dc < v_dc_min_V (while powered) */
+    MC_FAULT_NONFINITE       = 1u << 3, /* NaN/Inf in a measurement, estimate,
+                                           reference or output */
+    MC_FAULT_ISR_OVERRUN     = 1u << 4, /* fast-ISR cost > PWM period */
+    MC_FAULT_EXTERNAL        = 1u << 5, /* fault/STO input asserted */
+    MC_FAULT_CALIBRATION     = 1u << 6, /* current offset outside its limit */
+    MC_FAULT_ENCODER         = 1u << 7  /* count outside [0, cpr) */
+} mc_fault_t;
+
+/* Protection thresholds (SI units). */
+typedef struct {
+    float i_trip_A;      /* over-current trip on each phase, > 0 */
+    float v_dc_max_V;    /* over-voltage trip, > v_dc_min_V */
+    float v_dc_min_V;    /* under-voltage trip, >= 0 */
+} mc_fault_limits_t;
+
+/* Check the limits: all finite, i_trip_A > 0, 0 <= v_dc_min_V < v_dc_max_V.
+ * Returns MC_OK or MC_ERR_PARAM. Not for interrupt context (init only). */
+mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);
+
+/* Causes present in one sample of phase currents (A, offset-corrected) and
+ * DC-bus voltage (V). check_undervoltage: false while the drive is IDLE
+ * (the bus may legitimately be down); the application checks it in every
+ * other state, FAULT included, so a clear waits for the bus. A non-finite current or voltage
+ * gives MC_FAULT_NONFINITE (and no other bit for that quantity).
+ * Callable from interrupt context: yes (bounded, no division). */
+uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
+                                const float i_abc_A[3], float v_dc_V,
+                                bool check_undervoltage);
+
+/* True if every element of x[0..n) is finite. Callable from interrupt
+ * context: yes. */
+bool mc_all_finite_f32(const float *x, uint32_t n);
+
+#endif /* MC_FAULTS_H */

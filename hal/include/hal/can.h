@@ -1,0 +1,41 @@
+/*
+ * HAL contract: classic CAN (11- or 29-bit identifiers, up to 8 data bytes).
+ *
+ * Non-blocking: send queues a frame or reports HAL_ERR_BUSY, receive returns
+ * a queued frame or HAL_ERR_EMPTY. Neither may be called from the fast
+ * (PWM) ISR; they may be called from the thread/background loop or from the
+ * CAN interrupt itself.
+ * Contract only for now: the host SocketCAN binding comes with a later issue.
+ */
+#ifndef HAL_CAN_H
+#define HAL_CAN_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal/hal_status.h"
+
+#define HAL_CAN_MAX_DLC 8u
+
+typedef struct {
+    uint32_t id;                    /* 11-bit (<= 0x7FF) or 29-bit identifier */
+    bool extended;                  /* true: 29-bit identifier */
+    bool rtr;                       /* remote transmission request */
+    uint8_t dlc;                    /* data length, 0..8 */
+    uint8_t data[HAL_CAN_MAX_DLC];
+} hal_can_frame_t;
+
+/* Bring the controller up at bitrate_bps (e.g. 500000). NOT callable from
+ * interrupt context. HAL_ERR_PARAM for an unsupported bitrate. */
+hal_status_t hal_can_init(uint32_t bitrate_bps);
+
+/* Queue one frame for transmission. HAL_ERR_PARAM: dlc > 8 or id too large
+ * for its format; HAL_ERR_BUSY: transmit queue full. Never blocks.
+ * Not callable from the fast ISR. */
+hal_status_t hal_can_send(const hal_can_frame_t *frame);
+
+/* Take the oldest received frame. HAL_ERR_EMPTY: none pending. Never
+ * blocks. Not callable from the fast ISR. */
+hal_status_t hal_can_receive(hal_can_frame_t *frame);
+
+#endif /* HAL_CAN_H */

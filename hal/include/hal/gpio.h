@@ -1,0 +1,23 @@
+/*
+ * HAL contract: the few digital signals the drive firmware uses.
+ */
+#ifndef HAL_GPIO_H
+#define HAL_GPIO_H
+
+#include <stdbool.h>
+
+/* True while the external fault / safe-torque-off input is asserted (gate
+ * driver fault, STO chain open, e-stop). Callable from interrupt context:
+ * yes. */
+bool hal_gpio_fault_input_active(void);
+
+/* Drive the power-stage enable (gate-driver enable) pin. The PWM outputs
+ * switch only while this is enabled AND hal_pwm outputs are enabled.
+ * Callable from interrupt context: yes. */
+void hal_gpio_power_stage_enable(bool enable);
+
+/* Set the debug pin (scope timing of the ISR). Callable from interrupt
+ * context: yes. */
+void hal_gpio_debug_pin_set(bool level);
+
+#endif /* HAL_GPIO_H */

@@ -1,0 +1,28 @@
+/*
+ * HAL contract: monotonic time and the cycle counter used to measure ISR
+ * cost.
+ */
+#ifndef HAL_TIME_H
+#define HAL_TIME_H
+
+#include <stdint.h>
+
+/* Monotonic time in ticks since power-up (never wraps in practice: 64 bit).
+ * Callable from interrupt context: yes. */
+uint64_t hal_time_ticks(void);
+
+/* Frequency of hal_time_ticks in Hz, > 0. Callable from interrupt context:
+ * yes. */
+uint32_t hal_time_tick_hz(void);
+
+/* Free-running 32-bit cycle counter (wraps; compute differences with
+ * unsigned subtraction). On a Cortex-M it is DWT->CYCCNT; on the host it is
+ * the calling thread's CPU time in ns (see hal/host). Callable from interrupt
+ * context: yes; cost a few cycles. */
+uint32_t hal_cycle_counter(void);
+
+/* Frequency of hal_cycle_counter in Hz, > 0. Callable from interrupt
+ * context: yes. */
+uint32_t hal_cycle_counter_hz(void);
+
+#endif /* HAL_TIME_H */

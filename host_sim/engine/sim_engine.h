@@ -1,0 +1,128 @@
+/*
+ * sim_engine.h - closed-loop simulation: plant + host HAL + drive firmware.
+ *
+ * One sim_engine_step() is one PWM period k (t_k = k Ts):
+ *   1. plant_sample(): currents, v_dc, encoder at the PWM centre t_k;
+ *   2. active fault injections edit that measurement / the fault input;
+ *   3. the host HAL mailbox gets the sample, the command goes to the
+ *      firmware (mc_app_set_command), the firmware fast ISR runs;
+ *   4. plant_advance() over [t_k, t_k + Ts) with the duties of the PREVIOUS
+ *      ISR (the real drive's one-period delay: duties computed from the
+ *      sample at t_k are latched at the next period start). The PWM outputs
+ *      follow the same delay when they are ENABLED, but a disable is
+ *      immediate (no shadow register), so an ISR that trips a fault at t_k
+ *      stops the inverter for [t_k, t_k + Ts) already.
+ *      Average delay sample -> applied voltage: 1 period + 1/2 (ZOH) = 1.5 Ts.
+ *   5. the trace sample of period k is recorded (sim_engine_last()).
+ *
+ * The firmware sees the plant only through the HAL. The plant and firmware
+ * PWM frequencies and encoder resolutions must agree (checked by init).
+ *
+ * Fault injection (for tests and scenarios) is driven by the sample time:
+ * an injection is active for t_start_s <= t_k < t_end_s.
+ *
+ * Host only (C11, double precision, no allocation: the caller owns the
+ * engine, about 5 kB, plant included; allocate it statically or on the
+ * heap). Single-threaded per engine; several engines may be stepped in turn
+ * from one thread (each step binds its own HAL mailbox).
+ */
+#ifndef SIM_ENGINE_H
+#define SIM_ENGINE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal_host.h"
+#include "mc/app.h"
+#include "plant.h"
+
+#define SIM_ENGINE_MAX_INJECTIONS 16u
+
+typedef enum {
+    SIM_ENGINE_OK = 0,
+    SIM_ENGINE_ERR_NULL = -1,
+    SIM_ENGINE_ERR_PLANT = -2,      /* plant_init failed (see the message) */
+    SIM_ENGINE_ERR_MISMATCH = -3,   /* plant and firmware disagree (PWM
+                                       frequency, encoder cpr) */
+    SIM_ENGINE_ERR_FIRMWARE = -4,   /* mc_app_init failed */
+    SIM_ENGINE_ERR_INJECTION = -5,  /* invalid injection or table full */
+    SIM_ENGINE_ERR_COMMAND = -6,    /* mc_app_set_command rejected it */
+    SIM_ENGINE_ERR_STATE = -7       /* step on an engine whose init failed */
+} sim_engine_err_t;
+
+typedef enum {
+    SIM_INJECT_CURRENT_NAN = 0, /* measured current of `phase` := NaN */
+    SIM_INJECT_CURRENT_OFFSET,  /* measured current of `phase` += value (A):
+                                   a sensor spike / fault */
+    SIM_INJECT_VDC_MEASURED,    /* measured v_dc := value (V) */
+    SIM_INJECT_FAULT_INPUT      /* external fault / STO input asserted */
+} sim_inject_kind_t;
+
+typedef struct {
+    sim_inject_kind_t kind;
+    double t_start_s;   /* active for t_start_s <= t_k < t_end_s */
+    double t_end_s;     /* may be INFINITY */
+    uint32_t phase;     /* 0, 1, 2 (a, b, c) for the current kinds */
+    double value;       /* A or V, see the kind */
+} sim_injection_t;
+
+/* Everything about PWM period k. */
+typedef struct {
+    uint64_t k;                   /* period index */
+    double t_s;                   /* t_k = k Ts, the sampling instant */
+    plant_true_state_t plant;     /* true plant state at t_k (its v_abc are
+                                     the averages over the previous period) */
+    plant_measurement_t meas;     /* what the HAL delivered (after the
+                                     injections) */
+    uint32_t injections_active;   /* bit i: injection i was active at t_k */
+    mc_command_t cmd;             /* command given for this step */
+    mc_telemetry_t fw;            /* firmware telemetry of the ISR at t_k */
+    double duty_applied[3];       /* duties the inverter used in
+                                     [t_k, t_k + Ts) */
+    bool outputs_applied;         /* inverter switching in [t_k, t_k + Ts) */
+} sim_trace_sample_t;
+
+/* Private: the caller owns the storage; use the functions below. */
+typedef struct {
+    plant_t plant;
+    mc_app_t app;
+    hal_host_mailbox_t mailbox;
+    double duty_next[3];          /* latched by the last ISR */
+    bool outputs_next;
+    sim_injection_t injections[SIM_ENGINE_MAX_INJECTIONS];
+    uint32_t n_injections;
+    uint64_t k;
+    sim_trace_sample_t last;
+    bool initialised;
+    const char *message;
+} sim_engine_t;
+
+/* Initialise plant and firmware (the firmware enters IDLE with the PWM
+ * off). Returns SIM_ENGINE_OK or a negative sim_engine_err_t; the message
+ * (sim_engine_message) says what is wrong. */
+int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg,
+                    const mc_config_t *fw_cfg);
+
+/* Static sentence about the last init/add/step result ("ok"). */
+const char *sim_engine_message(const sim_engine_t *e);
+
+/* Add a fault injection (before or between steps). Rejects a non-finite
+ * start, end < start, a phase > 2 for current kinds, a non-finite value
+ * (except for SIM_INJECT_CURRENT_NAN, whose value is unused), an unknown
+ * kind, or a full table: SIM_ENGINE_ERR_INJECTION. */
+int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj);
+
+/* Simulate one PWM period with this command (see the top of this file).
+ * SIM_ENGINE_ERR_COMMAND: unknown mode (the period is NOT simulated). */
+int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd);
+
+/* The trace sample of the latest step (valid until the next step). */
+const sim_trace_sample_t *sim_engine_last(const sim_engine_t *e);
+
+/* Time of the next sampling instant t_{k+1} (s) = steps done * Ts. */
+double sim_engine_time_s(const sim_engine_t *e);
+
+/* PWM period Ts in s. */
+double sim_engine_period_s(const sim_engine_t *e);
+
+#endif /* SIM_ENGINE_H */

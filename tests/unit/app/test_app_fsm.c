@@ -1,0 +1,321 @@
+/*
+ * State machine, fault latching and the command/telemetry exchange of the
+ * drive application, with the HAL replaced by a stub (hal_stub.c).
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "hal_stub.h"
+#include "mc/app.h"
+
+#define CALIB_N 8u
+#define PI_D 3.14159265358979323846
+
+static mc_app_t app;
+static mc_config_t cfg;
+static mc_command_t cmd;
+
+static mc_telemetry_t tlm(void)
+{
+    mc_telemetry_t t;
+    assert_int_equal(mc_app_get_telemetry(&app, &t), MC_OK);
+    return t;
+}
+
+static void isr(void)
+{
+    assert_int_equal(mc_app_set_command(&app, &cmd), MC_OK);
+    mc_app_fast_isr(&app);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    hal_stub_reset();
+    mc_config_init_default(&cfg);
+    cfg.calib_samples = CALIB_N;
+    cfg.isr_overrun_limit = 1u;
+    assert_int_equal(mc_app_init(&app, &cfg), MC_OK);
+    cmd = (mc_command_t){ .mode = MC_MODE_CURRENT };
+    return 0;
+}
+
+/* IDLE -> CALIBRATING -> RUN with the PWM on. */
+static void go_to_run(void)
+{
+    cmd.enable = true;
+    isr();
+    assert_int_equal(tlm().state, MC_STATE_CALIBRATING);
+    for (uint32_t k = 0; k < CALIB_N; ++k) {
+        assert_false(g_hal.outputs_enabled);
+        isr();
+    }
+    assert_int_equal(tlm().state, MC_STATE_RUN);
+    assert_true(g_hal.outputs_enabled);
+    assert_true(g_hal.power_stage);
+}
+
+static void test_init_leaves_pwm_off_in_idle(void **state)
+{
+    (void)state;
+    assert_true(fabsf(g_hal.f_pwm_hz - 20000.0f) == 0.0f);
+    assert_false(g_hal.outputs_enabled);
+    assert_false(g_hal.power_stage);
+    assert_int_equal(tlm().state, MC_STATE_IDLE);
+    for (int k = 0; k < 10; ++k) {
+        isr(); /* enable false: stays idle */
+    }
+    const mc_telemetry_t t = tlm();
+    assert_int_equal(t.state, MC_STATE_IDLE);
+    assert_int_equal(t.isr_count, 10u);
+    assert_false(g_hal.outputs_enabled);
+}
+
+static void test_init_rejects_encoder_mismatch(void **state)
+{
+    (void)state;
+    g_hal.encoder_cpr = 4096u;
+    assert_int_equal(mc_app_init(&app, &cfg), MC_ERR_PARAM);
+    g_hal.encoder_cpr = 10000u;
+    cfg.R_ohm = NAN;
+    assert_int_equal(mc_app_init(&app, &cfg), MC_ERR_NONFINITE);
+}
+
+static void test_calibration_measures_offsets(void **state)
+{
+    (void)state;
+    const float offs[3] = { 0.125f, -0.25f, 0.0625f };
+    for (int k = 0; k < 3; ++k) {
+        g_hal.adc.i_abc_A[k] = offs[k];
+    }
+    go_to_run();
+    isr(); /* the first ISR that uses the new offsets */
+    const mc_telemetry_t t = tlm();
+    for (int k = 0; k < 3; ++k) {
+        assert_float_equal(t.i_offset_abc_A[k], offs[k], 1e-6);
+        assert_float_equal(t.i_abc_A[k], 0.0f, 1e-6); /* corrected */
+    }
+    /* Disable: IDLE and PWM off in the same call. */
+    cmd.enable = false;
+    isr();
+    assert_int_equal(tlm().state, MC_STATE_IDLE);
+    assert_false(g_hal.outputs_enabled);
+    assert_false(g_hal.power_stage);
+}
+
+static void test_calibration_fault_on_large_offset(void **state)
+{
+    (void)state;
+    g_hal.adc.i_abc_A[2] = 2.5f; /* > i_offset_max_A = 2 A */
+    cmd.enable = true;
+    for (uint32_t k = 0; k <= CALIB_N; ++k) {
+        isr();
+    }
+    const mc_telemetry_t t = tlm();
+    assert_int_equal(t.state, MC_STATE_FAULT);
+    assert_int_equal(t.faults_latched, MC_FAULT_CALIBRATION);
+    assert_false(g_hal.outputs_enabled);
+}
+
+/* First RUN ISR output against an independent computation: i_q_ref = 1 A,
+ * zero measured current, rotor at count 0: v_q = kp + ki Ts (backward
+ * Euler PI), v_d = 0, then inverse Park, inverse Clarke, min-max SVPWM. */
+static void test_first_control_output_matches_reference(void **state)
+{
+    (void)state;
+    go_to_run();
+    cmd.i_q_ref_A = 1.0f;
+    isr();
+    const double Ts = 1.0 / 20000.0;
+    const double w_c = (double)cfg.current_bandwidth_rad_s;
+    const double v_q = 3.8e-3 * w_c + 0.225 * w_c * Ts;
+    const double th = 3.0 * 0.5 * 2.0 * PI_D / 10000.0; /* centre of count 0 */
+    const double v_al = -v_q * sin(th), v_be = v_q * cos(th);
+    const double va = v_al;
+    const double vb = -0.5 * v_al + sqrt(3.0) / 2.0 * v_be;
+    const double vc = -0.5 * v_al - sqrt(3.0) / 2.0 * v_be;
+    const double vmax = fmax(va, fmax(vb, vc)), vmin = fmin(va, fmin(vb, vc));
+    const double v0 = -0.5 * (vmax + vmin);
+    const double d[3] = { 0.5 + (va + v0) / 48.0, 0.5 + (vb + v0) / 48.0,
+                          0.5 + (vc + v0) / 48.0 };
+    const mc_telemetry_t t = tlm();
+    assert_float_equal(t.v_q_V, v_q, 1e-4 * v_q);
+    assert_float_equal(t.v_d_V, 0.0, 1e-6);
+    for (int k = 0; k < 3; ++k) {
+        assert_float_equal(g_hal.duty_abc[k], d[k], 1e-5);
+    }
+    assert_true(g_hal.outputs_enabled);
+}
+
+/* ---- each fault: latched, PWM off in the same ISR call ----------------- */
+
+typedef void (*cause_fn)(bool present);
+
+static void cause_overcurrent(bool on) { g_hal.adc.i_abc_A[1] = on ? -25.0f : 0.0f; }
+static void cause_overvoltage(bool on) { g_hal.adc.v_dc_V = on ? 65.0f : 48.0f; }
+static void cause_undervoltage(bool on) { g_hal.adc.v_dc_V = on ? 15.0f : 48.0f; }
+static void cause_nan_current(bool on) { g_hal.adc.i_abc_A[0] = on ? NAN : 0.0f; }
+static void cause_inf_vdc(bool on) { g_hal.adc.v_dc_V = on ? INFINITY : 48.0f; }
+static void cause_external(bool on) { g_hal.fault_input = on; }
+static void cause_encoder(bool on) { g_hal.encoder_count = on ? 10000u : 0u; }
+static void cause_overrun(bool on) { g_hal.cycle_step = on ? 51u : 2u; }
+
+static const struct {
+    cause_fn cause;
+    uint32_t fault;
+} fault_cases[] = {
+    { cause_overcurrent, MC_FAULT_OVERCURRENT },
+    { cause_overvoltage, MC_FAULT_DC_OVERVOLTAGE },
+    { cause_undervoltage, MC_FAULT_DC_UNDERVOLTAGE },
+    { cause_nan_current, MC_FAULT_NONFINITE },
+    { cause_inf_vdc, MC_FAULT_NONFINITE },
+    { cause_external, MC_FAULT_EXTERNAL },
+    { cause_encoder, MC_FAULT_ENCODER },
+    { cause_overrun, MC_FAULT_ISR_OVERRUN },
+};
+
+static void test_each_fault_latches_and_clears_only_without_cause(void **state)
+{
+    for (size_t i = 0; i < sizeof fault_cases / sizeof fault_cases[0]; ++i) {
+        setup(state);
+        go_to_run();
+        fault_cases[i].cause(true);
+        isr();
+        mc_telemetry_t t = tlm();
+        assert_int_equal(t.state, MC_STATE_FAULT);
+        assert_int_equal(t.faults_latched, fault_cases[i].fault);
+        assert_false(g_hal.outputs_enabled);  /* same call */
+        assert_false(g_hal.power_stage);
+        assert_false(t.outputs_enabled);
+        /* Clear request while the cause is present: refused. */
+        if (fault_cases[i].fault != MC_FAULT_ISR_OVERRUN) {
+            cmd.clear_fault = true;
+            isr();
+            assert_int_equal(tlm().state, MC_STATE_FAULT);
+            cmd.clear_fault = false;
+        }
+        /* Cause gone: still latched without a request. */
+        fault_cases[i].cause(false);
+        for (int k = 0; k < 5; ++k) {
+            isr();
+            assert_int_equal(tlm().state, MC_STATE_FAULT);
+            assert_false(g_hal.outputs_enabled);
+        }
+        t = tlm();
+        assert_int_equal(t.faults_active, 0u);
+        assert_int_equal(t.faults_latched, fault_cases[i].fault);
+        /* Rising edge of clear_fault: IDLE, but enable must be re-armed. */
+        cmd.clear_fault = true;
+        isr();
+        t = tlm();
+        assert_int_equal(t.state, MC_STATE_IDLE);
+        assert_int_equal(t.faults_latched, 0u);
+        isr();
+        assert_int_equal(tlm().state, MC_STATE_IDLE);
+        cmd.enable = false;
+        isr();
+        go_to_run();
+    }
+}
+
+/* A clear_fault held true does not clear a later fault (edge only). */
+static void test_held_clear_does_not_clear(void **state)
+{
+    (void)state;
+    go_to_run();
+    cmd.clear_fault = true;
+    isr();
+    cause_external(true);
+    isr();
+    cause_external(false);
+    for (int k = 0; k < 20; ++k) {
+        isr();
+    }
+    assert_int_equal(tlm().state, MC_STATE_FAULT);
+}
+
+/* With isr_overrun_limit = 3, isolated overruns are counted but only the
+ * third consecutive one faults. */
+static void test_overrun_limit_counts_consecutive(void **state)
+{
+    (void)state;
+    cfg.isr_overrun_limit = 3u;
+    assert_int_equal(mc_app_init(&app, &cfg), MC_OK);
+    go_to_run();
+    for (int k = 0; k < 2; ++k) {
+        cause_overrun(true);
+        isr();
+        isr();
+        cause_overrun(false);
+        isr();
+    }
+    mc_telemetry_t t = tlm();
+    assert_int_equal(t.state, MC_STATE_RUN);
+    assert_int_equal(t.isr_overruns, 4u);
+    assert_float_equal(t.isr_cost_max_s, 51e-6, 1e-9);
+    cause_overrun(true);
+    isr();
+    isr();
+    assert_int_equal(tlm().state, MC_STATE_RUN);
+    isr();
+    t = tlm();
+    assert_int_equal(t.state, MC_STATE_FAULT);
+    assert_int_equal(t.faults_latched, MC_FAULT_ISR_OVERRUN);
+    assert_false(g_hal.outputs_enabled);
+}
+
+/* Non-finite references in RUN fault in the same call. */
+static void test_nan_reference_faults(void **state)
+{
+    (void)state;
+    go_to_run();
+    cmd.i_d_ref_A = NAN;
+    isr();
+    assert_int_equal(tlm().state, MC_STATE_FAULT);
+    assert_int_equal(tlm().faults_latched, MC_FAULT_NONFINITE);
+    assert_false(g_hal.outputs_enabled);
+}
+
+/* Current references are limited to the i_max circle. */
+static void test_current_reference_limited(void **state)
+{
+    (void)state;
+    go_to_run();
+    cmd.i_d_ref_A = -30.0f;
+    cmd.i_q_ref_A = 40.0f;
+    isr();
+    const mc_telemetry_t t = tlm();
+    assert_float_equal(t.i_d_ref_A, -6.0, 1e-4); /* i_max = 10 A, 3-4-5 */
+    assert_float_equal(t.i_q_ref_A, 8.0, 1e-4);
+}
+
+static void test_command_mode_validated(void **state)
+{
+    (void)state;
+    mc_command_t bad = { .mode = (mc_mode_t)7 };
+    assert_int_equal(mc_app_set_command(&app, &bad), MC_ERR_PARAM);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_init_leaves_pwm_off_in_idle, setup),
+        cmocka_unit_test_setup(test_init_rejects_encoder_mismatch, setup),
+        cmocka_unit_test_setup(test_calibration_measures_offsets, setup),
+        cmocka_unit_test_setup(test_calibration_fault_on_large_offset, setup),
+        cmocka_unit_test_setup(test_first_control_output_matches_reference, setup),
+        cmocka_unit_test_setup(test_each_fault_latches_and_clears_only_without_cause, setup),
+        cmocka_unit_test_setup(test_held_clear_does_not_clear, setup),
+        cmocka_unit_test_setup(test_overrun_limit_counts_consecutive, setup),
+        cmocka_unit_test_setup(test_nan_reference_faults, setup),
+        cmocka_unit_test_setup(test_current_reference_limited, setup),
+        cmocka_unit_test_setup(test_command_mode_validated, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
