@@ -1,0 +1,126 @@
+/*
+ * Computation / PWM delay of the drive: the two consequences of "duties
+ * computed in ISR k take effect in the next PWM period" for a sensorless
+ * observer-based controller, float32.
+ *
+ * Timing parameter d (delay_periods): the voltage commanded in ISR k (which
+ * runs right after the current sample at t_k) is applied over the interval
+ * [t_k + (d - 1/2) Ts, t_k + (d + 1/2) Ts], i.e. centred d periods after
+ * the sample. Valid range 1/2 <= d <= 3/2:
+ *   d = 1.5  sample at the start of a PWM period, duties latched at the
+ *            start of the next one (the textbook "1.5 Ts" delay; also a
+ *            period-average simulator that samples at the period boundary
+ *            and applies ISR k's duties over the period after next);
+ *   d = 1.0  the HAL contract (hal/pwm.h): sample at the PWM centre, duties
+ *            latched at the start of the next period, half a period later;
+ *   d = 0.5  no computation delay (duties apply right after the sample).
+ *
+ * 1) Voltage angle advance (switchable). The dq voltage is meant for the
+ *    rotor angle at which it acts; over the applied interval the rotor turns
+ *    by omega_e Ts, and the interval's mean rotation is that of its centre
+ *    (the averaged rotor-frame voltage is the centre's times
+ *    sinc(omega_e Ts / 2) ~ 1). So the inverse Park uses
+ *      theta_v = wrap(theta_e_hat + omega_e_hat * d * Ts).
+ *    Disabled: theta_v = theta_e_hat (its closed-loop effect is measured
+ *    later on the bench).
+ * 2) Voltage applied over the last sample interval [t_{k-1}, t_k], needed by
+ *    the flux observer (mc/flux_observer.h): commands v_j hold on
+ *    [t_j + (d - 1/2) Ts, t_{j+1} + (d - 1/2) Ts], so with w = d - 1/2
+ *      v_bar_k = w * v_{k-2} + (1 - w) * v_{k-1}.
+ *    (HAL timing d = 1: the mean of the last two commands; centre-aligned
+ *    PWM spends equal volt-seconds in each half period.) Record the voltage
+ *    the inverter really produces (after the modulator's limit), in the
+ *    stationary alpha-beta frame.
+ *
+ * Units: rad (electrical), rad/s (electrical), V, s.
+ * Non-finite inputs: the angle function returns NaN (the caller's fault
+ * check sees it); the voltage history rejects them (MC_ERR_NONFINITE,
+ * state untouched).
+ */
+#ifndef MC_DELAY_COMP_H
+#define MC_DELAY_COMP_H
+
+#include <math.h>
+#include <stdbool.h>
+
+#include "mc/angle.h"
+#include "mc/status.h"
+
+#define MC_DELAY_PERIODS_DEFAULT 1.5f
+
+typedef struct {
+    float advance_s; /* d * Ts */
+    bool enabled;
+} mc_delay_comp_f32_t;
+
+/* Validate Ts_s > 0 and 0.5 <= delay_periods <= 1.5 (finite), store
+ * d * Ts. MC_ERR_NONFINITE / MC_ERR_PARAM (*dc untouched).
+ * Not for interrupt context. */
+mc_status_t mc_delay_comp_init_f32(mc_delay_comp_f32_t *dc, float Ts_s,
+                                   float delay_periods, bool enabled);
+
+/* Switch the advance on or off. Callable from interrupt context: yes. */
+static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
+                                            bool enabled)
+{
+    dc->enabled = enabled;
+}
+
+/* Angle for the inverse Park of the voltage computed now:
+ * wrap(theta_e_rad + omega_e_rad_s * d * Ts) if enabled, else theta_e_rad
+ * unchanged. NaN for non-finite inputs or |theta| beyond
+ * MC_ANGLE_MAX_ABS_RAD when enabled. Callable from interrupt context: yes. */
+static inline float mc_delay_comp_angle_f32(const mc_delay_comp_f32_t *dc,
+                                            float theta_e_rad,
+                                            float omega_e_rad_s)
+{
+    if (!dc->enabled) {
+        return theta_e_rad;
+    }
+    return mc_wrap_pi_f32(theta_e_rad + omega_e_rad_s * dc->advance_s);
+}
+
+typedef struct {
+    float w_older;                  /* d - 1/2, weight of v_{k-2} */
+    float v_older_V[2];             /* v_{k-2} (alpha, beta) */
+    float v_newer_V[2];             /* v_{k-1} (alpha, beta) */
+} mc_applied_voltage_f32_t;
+
+/* Validate 0.5 <= delay_periods <= 1.5 (finite) and reset the history to
+ * zero volts. MC_ERR_NONFINITE / MC_ERR_PARAM (*av untouched).
+ * Not for interrupt context. */
+mc_status_t mc_applied_voltage_init_f32(mc_applied_voltage_f32_t *av,
+                                        float delay_periods);
+
+/* Fill the history with one voltage (e.g. 0 V with the outputs off).
+ * Non-finite: MC_ERR_NONFINITE, state untouched. ISR-safe. */
+mc_status_t mc_applied_voltage_reset_f32(mc_applied_voltage_f32_t *av,
+                                         float v_alpha_V, float v_beta_V);
+
+/* Mean voltage applied over [t_{k-1}, t_k]; call in ISR k BEFORE pushing
+ * this ISR's command. ISR-safe. */
+static inline void mc_applied_voltage_last_f32(
+    const mc_applied_voltage_f32_t *av, float *v_alpha_V, float *v_beta_V)
+{
+    const float w_old = av->w_older;
+    const float w_new = 1.0f - w_old;
+    *v_alpha_V = w_old * av->v_older_V[0] + w_new * av->v_newer_V[0];
+    *v_beta_V = w_old * av->v_older_V[1] + w_new * av->v_newer_V[1];
+}
+
+/* Record the voltage commanded in ISR k (as the inverter will produce it).
+ * Non-finite: MC_ERR_NONFINITE, state untouched. ISR-safe. */
+static inline mc_status_t mc_applied_voltage_push_f32(
+    mc_applied_voltage_f32_t *av, float v_alpha_V, float v_beta_V)
+{
+    if (!isfinite(v_alpha_V) || !isfinite(v_beta_V)) {
+        return MC_ERR_NONFINITE;
+    }
+    av->v_older_V[0] = av->v_newer_V[0];
+    av->v_older_V[1] = av->v_newer_V[1];
+    av->v_newer_V[0] = v_alpha_V;
+    av->v_newer_V[1] = v_beta_V;
+    return MC_OK;
+}
+
+#endif /* MC_DELAY_COMP_H */

@@ -1,0 +1,98 @@
+/* Gradient flux / position observer, paper 001 (12)-(14). See the header. */
+#include "mc/flux_observer.h"
+
+#include <math.h>
+
+#include "mc/angle.h"
+
+static int all_finite4(float a, float b, float c, float d)
+{
+    return isfinite(a) && isfinite(b) && isfinite(c) && isfinite(d);
+}
+
+mc_status_t mc_flux_obs_init_f32(mc_flux_obs_f32_t *obs,
+                                 const mc_flux_obs_params_t *p)
+{
+    if (!all_finite4(p->R_ohm, p->L_H, p->flux_Wb, p->gamma) ||
+        !isfinite(p->Ts_s)) {
+        return MC_ERR_NONFINITE;
+    }
+    if (p->R_ohm < 0.0f || p->L_H <= 0.0f || p->flux_Wb <= 0.0f ||
+        p->gamma <= 0.0f || p->Ts_s <= 0.0f) {
+        return MC_ERR_PARAM;
+    }
+    /* Euler stability of the gradient correction: Ts * gamma * Phi^2 < 1
+     * (see header). Written as a product: no division to guard. */
+    const float flux_sq = p->flux_Wb * p->flux_Wb;
+    if (!(p->Ts_s * p->gamma * flux_sq < 1.0f)) {
+        return MC_ERR_PARAM;
+    }
+    obs->Ts_s = p->Ts_s;
+    obs->R_ohm = p->R_ohm;
+    obs->L_H = p->L_H;
+    obs->flux_Wb = p->flux_Wb;
+    obs->flux_sq_Wb2 = flux_sq;
+    obs->inv_flux_per_Wb = 1.0f / p->flux_Wb; /* Phi > 0 checked above */
+    obs->gamma = p->gamma;
+    return mc_flux_obs_reset_f32(obs, 0.0f, 0.0f, 0.0f);
+}
+
+mc_status_t mc_flux_obs_reset_f32(mc_flux_obs_f32_t *obs, float theta_e_rad,
+                                  float i_alpha_A, float i_beta_A)
+{
+    if (!isfinite(theta_e_rad) || !isfinite(i_alpha_A) ||
+        !isfinite(i_beta_A)) {
+        return MC_ERR_NONFINITE;
+    }
+    const float theta = mc_wrap_pi_f32(theta_e_rad);
+    if (!isfinite(theta)) { /* outside the wrap's accepted range */
+        return MC_ERR_RANGE;
+    }
+    float s, c;
+    mc_sincos_f32(theta, &s, &c);
+    obs->eta_alpha_Wb = obs->flux_Wb * c;
+    obs->eta_beta_Wb = obs->flux_Wb * s;
+    obs->lambda_alpha_Wb = obs->L_H * i_alpha_A + obs->eta_alpha_Wb;
+    obs->lambda_beta_Wb = obs->L_H * i_beta_A + obs->eta_beta_Wb;
+    obs->i_alpha_prev_A = i_alpha_A;
+    obs->i_beta_prev_A = i_beta_A;
+    obs->theta_e_rad = theta;
+    return MC_OK;
+}
+
+mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
+                                 float i_beta_A, float v_alpha_V,
+                                 float v_beta_V)
+{
+    if (!all_finite4(i_alpha_A, i_beta_A, v_alpha_V, v_beta_V)) {
+        return MC_ERR_NONFINITE;
+    }
+    const float Ts = obs->Ts_s;
+    const float half_R = 0.5f * obs->R_ohm;
+    /* gradient term of (12) at the previous sample (explicit Euler) */
+    const float ea = obs->eta_alpha_Wb;
+    const float eb = obs->eta_beta_Wb;
+    const float corr = obs->gamma * (obs->flux_sq_Wb2 - (ea * ea + eb * eb));
+    /* (12): measurable flux increment (mean v, trapezoid R i) + correction */
+    const float la = obs->lambda_alpha_Wb +
+                     Ts * (v_alpha_V - half_R * (obs->i_alpha_prev_A + i_alpha_A)
+                           + corr * ea);
+    const float lb = obs->lambda_beta_Wb +
+                     Ts * (v_beta_V - half_R * (obs->i_beta_prev_A + i_beta_A)
+                           + corr * eb);
+    /* (14) */
+    const float na = la - obs->L_H * i_alpha_A;
+    const float nb = lb - obs->L_H * i_beta_A;
+    /* (13): angle of eta (atan2 of a finite pair is finite) */
+    if (!all_finite4(la, lb, na, nb)) {
+        return MC_ERR_NONFINITE;
+    }
+    obs->lambda_alpha_Wb = la;
+    obs->lambda_beta_Wb = lb;
+    obs->eta_alpha_Wb = na;
+    obs->eta_beta_Wb = nb;
+    obs->i_alpha_prev_A = i_alpha_A;
+    obs->i_beta_prev_A = i_beta_A;
+    obs->theta_e_rad = mc_atan2_f32(nb, na);
+    return MC_OK;
+}
