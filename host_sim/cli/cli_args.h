@@ -1,0 +1,37 @@
+/* Command line of pmsm-sim (the usage text is cli_print_help). */
+#ifndef PMSM_SIM_CLI_ARGS_H
+#define PMSM_SIM_CLI_ARGS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#define CLI_MAX_OVERRIDES 64
+
+/* Exit codes. */
+enum {
+    CLI_EXIT_OK = 0,
+    CLI_EXIT_RUN_FAILED = 1,   /* engine error or an output could not be written */
+    CLI_EXIT_USAGE = 2,        /* bad command line */
+    CLI_EXIT_SCENARIO = 3      /* scenario file unreadable or invalid */
+};
+
+typedef enum { CLI_HELP, CLI_RUN, CLI_BENCH } cli_command_t;
+
+typedef struct {
+    cli_command_t command;
+    const char *scenario;
+    const char *overrides[CLI_MAX_OVERRIDES];
+    size_t n_overrides;
+    const char *csv;           /* NULL: none */
+    const char *json;
+    const char *plot;
+    bool quiet;
+} cli_args_t;
+
+/* Parse argv; false with msg on a usage error. */
+bool cli_parse(int argc, char **argv, cli_args_t *out, char *msg, size_t msg_size);
+
+void cli_print_help(FILE *f);
+
+#endif /* PMSM_SIM_CLI_ARGS_H */

@@ -1,0 +1,102 @@
+/* The JSON metrics file of a run (see report.h). */
+#include <math.h>
+#include <stdlib.h>
+
+#include <cjson/cJSON.h>
+
+#include "drive_names.h"
+#include "report.h"
+
+#define ISR_COST_METHOD                                                                    \
+    "host thread CPU time of each firmware fast ISR (clock_gettime("                       \
+    "CLOCK_THREAD_CPUTIME_ID) via the host HAL cycle counter); host time, not MCU cycles"
+
+/* value, or null when unavailable (the reason goes to `unavailable`). */
+static void add_metric(cJSON *metrics, cJSON *unavailable, const char *key, double value,
+                       sim_metrics_status_t status)
+{
+    if (status == SIM_METRICS_OK) {
+        cJSON_AddNumberToObject(metrics, key, value);
+    } else {
+        cJSON_AddNullToObject(metrics, key);
+        cJSON_AddStringToObject(unavailable, key, sim_metrics_status_str(status));
+    }
+}
+
+static cJSON *build_json(const char *scenario_file, const scenario_t *s, const run_result_t *res,
+                         const report_t *rep)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "scenario", s->name);
+    cJSON_AddStringToObject(root, "scenario_file", scenario_file);
+    cJSON_AddStringToObject(root, "mode", scenario_mode_name(s->reference.mode));
+    cJSON_AddStringToObject(root, "display_unit", s->reference.display_unit);
+    cJSON_AddNumberToObject(root, "duration_s", res->sim_s);
+    cJSON_AddNumberToObject(root, "pwm_periods", (double)res->periods);
+    cJSON_AddNumberToObject(root, "wall_time_s", res->wall_s);
+
+    cJSON *metrics = cJSON_AddObjectToObject(root, "metrics");
+    cJSON *unavailable = cJSON_AddObjectToObject(root, "unavailable");
+    for (size_t i = 0; i < rep->n_items; i++) {
+        const report_item_t *it = &rep->items[i];
+        add_metric(metrics, unavailable, it->key, it->value, it->status);
+    }
+    cJSON *dips = cJSON_AddArrayToObject(root, "load_steps");
+    char dip_key[REPORT_KEY_MAX];
+    snprintf(dip_key, sizeof(dip_key), "max_dip_%s", s->reference.display_unit);
+    for (size_t i = 0; i < rep->n_dips; i++) {
+        const report_dip_t *dip = &rep->dips[i];
+        cJSON *d = cJSON_CreateObject();
+        cJSON_AddNumberToObject(d, "t_s", dip->t_s);
+        if (dip->status == SIM_METRICS_OK) {
+            cJSON_AddNumberToObject(d, dip_key, dip->max_dip);
+            cJSON_AddNumberToObject(d, "dip_time_s", dip->dip_time_s);
+        } else {
+            cJSON_AddNullToObject(d, dip_key);
+            cJSON_AddStringToObject(d, "unavailable", sim_metrics_status_str(dip->status));
+        }
+        cJSON_AddItemToArray(dips, d);
+    }
+
+    cJSON *isr = cJSON_AddObjectToObject(root, "isr_cost");
+    cJSON_AddNumberToObject(isr, "mean_s", res->isr_cost_mean_s);
+    cJSON_AddNumberToObject(isr, "max_s", res->isr_cost_max_s);
+    cJSON_AddStringToObject(isr, "method", ISR_COST_METHOD);
+
+    cJSON *faults = cJSON_AddObjectToObject(root, "faults");
+    cJSON_AddNumberToObject(faults, "latched_bits", (double)res->faults_latched);
+    cJSON *latched = cJSON_AddArrayToObject(faults, "latched");
+    for (size_t i = 0; i < drive_fault_count(); i++) {
+        uint32_t bit;
+        const char *name = drive_fault_name(i, &bit);
+        if (res->faults_latched & bit) {
+            cJSON_AddItemToArray(latched, cJSON_CreateString(name));
+        }
+    }
+    if (isnan(res->first_fault_t_s)) {
+        cJSON_AddNullToObject(faults, "first_fault_t_s");
+    } else {
+        cJSON_AddNumberToObject(faults, "first_fault_t_s", res->first_fault_t_s);
+    }
+    cJSON_AddStringToObject(faults, "final_state", drive_state_name(res->final_state));
+    return root;
+}
+
+bool report_write_json(const char *file, const char *scenario_file, const scenario_t *s,
+                       const run_result_t *res, const report_t *rep, char *msg,
+                       size_t msg_size)
+{
+    cJSON *root = build_json(scenario_file, s, res, rep);
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    FILE *f = text != NULL ? fopen(file, "w") : NULL;
+    bool ok = f != NULL && fputs(text, f) >= 0 && fputc('\n', f) != EOF;
+    if (f != NULL && fclose(f) != 0) {
+        ok = false;
+    }
+    free(text);
+    if (!ok) {
+        snprintf(msg, msg_size, "cannot write the JSON metrics file %.1000s", file);
+    }
+    return ok;
+}

@@ -1,0 +1,84 @@
+/*
+ * A validated simulation scenario: plant configuration, controller
+ * configuration, reference, fault injections, metric windows and output
+ * options, read from a
+ * JSON document (format: host_sim/scenarios/README.md).
+ *
+ * All values are SI inside the structs. The reference may be written in rpm
+ * ("speed_rpm"); it is converted to rad/s here and the metrics are reported
+ * in the unit the scenario used (reference.display_unit).
+ */
+#ifndef SIM_SCENARIO_H
+#define SIM_SCENARIO_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cjson/cJSON.h>
+
+#include "mc/app.h"
+#include "plant.h"
+#include "profile.h"
+#include "sim_engine.h"
+#include "sim/scenario_error.h"
+
+#define SCENARIO_NAME_MAX 64
+#define SCENARIO_MAX_DURATION_S 36000.0
+#define SCENARIO_MAX_LOAD_STEPS 8
+
+typedef struct {
+    mc_mode_t mode;
+    sim_profile_t value;        /* omega_m_ref [rad/s], theta_m_ref [rad] or i_q_ref [A] */
+    sim_profile_t i_d_A;        /* MC_MODE_CURRENT: d-axis reference; else 0 */
+    const char *display_unit;   /* "rpm", "rad_s", "rad" or "A" */
+    double display_per_si;      /* display value = SI value * display_per_si */
+} scenario_reference_t;
+
+/* Metric windows; values (step levels) in the reference's display unit.
+ * Times are not bounded by duration_s (a shortened run, --set duration_s=..,
+ * keeps its windows): samples outside the run simply do not exist, and a
+ * metric whose window holds none is reported as unavailable. */
+typedef struct {
+    bool has_step;
+    double step_t_s;
+    double step_end_s;          /* step metrics use the samples up to here */
+    double step_initial;
+    double step_final;
+    double settling_band;       /* fraction of the step (0.02 = 2 %) */
+    bool has_steady_window;
+    double steady_t0_s, steady_t1_s;
+    double tracking_t0_s, tracking_t1_s;
+    size_t n_load_steps;
+    double load_step_t_s[SCENARIO_MAX_LOAD_STEPS];
+    double dip_window_s;
+} scenario_metrics_t;
+
+typedef struct {
+    char name[SCENARIO_NAME_MAX];
+    double duration_s;
+    plant_config_t plant;
+    mc_config_t controller;
+    scenario_reference_t reference;
+    scenario_metrics_t metrics;
+    sim_injection_t injections[SIM_ENGINE_MAX_INJECTIONS];
+    size_t n_injections;
+    uint32_t trace_decimation;  /* one CSV row every N PWM periods */
+} scenario_t;
+
+/* "current", "speed" or "position": the reference.mode names. */
+const char *scenario_mode_name(mc_mode_t mode);
+
+/* Map a parsed document into *out. err->file should already name the source.
+ * Returns false with the first error (key path, expected, found). */
+bool scenario_from_json(const cJSON *root, scenario_t *out, scn_error_t *err);
+
+/* Load file, apply the "KEY.PATH=VALUE" overrides in order, validate, map. */
+bool scenario_load(const char *file, const char *const *overrides, size_t n_overrides,
+                   scenario_t *out, scn_error_t *err);
+
+/* Same from a string (tests). file may be NULL. */
+bool scenario_load_text(const char *text, const char *file, const char *const *overrides,
+                        size_t n_overrides, scenario_t *out, scn_error_t *err);
+
+#endif /* SIM_SCENARIO_H */

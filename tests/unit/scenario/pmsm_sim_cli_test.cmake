@@ -1,0 +1,95 @@
+# Command-line checks of pmsm-sim, run by ctest in CMake script mode:
+#   cmake -DPMSM_SIM=<exe> -DSCENARIO=<json> -DWORK_DIR=<dir> -DCASE=<case> -P <this file>
+# CASE smoke:        a short run of the scenario exits 0 and writes JSON metrics with
+#                    the documented keys and a CSV of the expected length
+# CASE bad_scenario: invalid scenarios exit 3 naming the key path on stderr;
+#                    a bad command line exits 2
+# CASE plot:         --plot writes a PNG (needs the project venv, tools/setup.sh)
+cmake_minimum_required(VERSION 3.25)
+
+# check(<message> <if() condition words>...)
+function(check message)
+  if(NOT (${ARGN}))
+    message(FATAL_ERROR "${message}")
+  endif()
+endfunction()
+
+function(expect_json_type json type)
+  string(JSON actual ERROR_VARIABLE err TYPE "${json}" ${ARGN})
+  if(err OR NOT actual STREQUAL type)
+    string(REPLACE ";" "." where "${ARGN}")
+    message(FATAL_ERROR "metrics JSON: ${where} should be ${type}, is '${actual}' ${err}")
+  endif()
+endfunction()
+
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+
+if(CASE STREQUAL "smoke")
+  execute_process(
+    COMMAND "${PMSM_SIM}" run "${SCENARIO}" --set duration_s=0.2
+            --json "${WORK_DIR}/metrics.json" --csv "${WORK_DIR}/trace.csv" --quiet
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  check("pmsm-sim run exited ${rc}: ${err}" rc EQUAL 0)
+  file(READ "${WORK_DIR}/metrics.json" json)
+  string(JSON name GET "${json}" scenario)
+  check("scenario name is '${name}'" name STREQUAL paper001_benchmark_foc)
+  string(JSON mode GET "${json}" mode)
+  check("mode is '${mode}'" mode STREQUAL speed)
+  string(JSON periods GET "${json}" pwm_periods)
+  check("0.2 s at 20 kHz should be 4000 periods, got ${periods}" periods EQUAL 4000)
+  expect_json_type("${json}" NUMBER metrics rms_tracking_error_rpm)
+  expect_json_type("${json}" NUMBER metrics peak_phase_current_A)
+  expect_json_type("${json}" NUMBER metrics peak_phase_voltage_V)
+  expect_json_type("${json}" NUMBER isr_cost mean_s)
+  expect_json_type("${json}" NUMBER isr_cost max_s)
+  expect_json_type("${json}" ARRAY faults latched)
+  # the steady window (6-7 s) and the load steps lie beyond the shortened run
+  expect_json_type("${json}" NULL metrics fluctuation_rpm)
+  expect_json_type("${json}" NULL metrics fluctuation_rate_percent)
+  string(JSON reason GET "${json}" unavailable fluctuation_rpm)
+  check("unexpected reason '${reason}'" reason STREQUAL "no sample in the window")
+  string(JSON n_steps LENGTH "${json}" load_steps)
+  check("expected 3 load steps, got ${n_steps}" n_steps EQUAL 3)
+  expect_json_type("${json}" NULL load_steps 0 max_dip_rpm)
+  string(JSON reason GET "${json}" load_steps 0 unavailable)
+  check("unexpected reason '${reason}'" reason STREQUAL "no sample in the window")
+  # 4000 periods, one row every 20 (output.trace_decimation), plus the header
+  file(STRINGS "${WORK_DIR}/trace.csv" rows)
+  list(LENGTH rows n_rows)
+  check("trace.csv has ${n_rows} lines, expected 201" n_rows EQUAL 201)
+  list(GET rows 0 header)
+  check("unexpected CSV header '${header}'" header MATCHES "^t_s,omega_m_rad_s,")
+elseif(CASE STREQUAL "bad_scenario")
+  execute_process(
+    COMMAND "${PMSM_SIM}" run "${SCENARIO}" --set motor.R_ohm=-1 --quiet
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  check("an out-of-range key should exit 3, exited ${rc}" rc EQUAL 3)
+  check("stderr lacks the key path: ${err}" err MATCHES "motor\\.R_ohm: out of range")
+  file(WRITE "${WORK_DIR}/typo.json" "{\"duration_s\": 1, \"motr\": {}}")
+  execute_process(
+    COMMAND "${PMSM_SIM}" run "${WORK_DIR}/typo.json"
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  check("a scenario without motor should exit 3, exited ${rc}" rc EQUAL 3)
+  check("unexpected stderr: ${err}" err MATCHES "typo\\.json: motor: missing required key")
+  file(WRITE "${WORK_DIR}/broken.json" "{\n  \"duration_s\": 1x\n}")
+  execute_process(
+    COMMAND "${PMSM_SIM}" run "${WORK_DIR}/broken.json"
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  check("malformed JSON should exit 3, exited ${rc}" rc EQUAL 3)
+  check("unexpected stderr: ${err}" err MATCHES "broken\\.json:2:18: malformed JSON")
+  execute_process(
+    COMMAND "${PMSM_SIM}" run "${SCENARIO}" --frobnicate
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  check("an unknown option should exit 2, exited ${rc}" rc EQUAL 2)
+elseif(CASE STREQUAL "plot")
+  execute_process(
+    COMMAND "${PMSM_SIM}" run "${SCENARIO}" --set duration_s=0.2
+            --plot "${WORK_DIR}/trace.png" --quiet
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  check("pmsm-sim run --plot exited ${rc}: ${err}" rc EQUAL 0)
+  file(READ "${WORK_DIR}/trace.png" signature LIMIT 8 HEX)
+  check("trace.png is not a PNG (${signature})" signature STREQUAL 89504e470d0a1a0a)
+else()
+  message(FATAL_ERROR "unknown CASE '${CASE}'")
+endif()

@@ -1,0 +1,156 @@
+/* The scenarios shipped in host_sim/scenarios load, and carry the motors and
+ * profiles stated in the papers (numbers typed from the paper texts); the
+ * full example of host_sim/scenarios/README.md is valid. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "sim/scenario.h"
+
+#define PI 3.14159265358979323846
+#define RPM (PI / 30.0) /* rad/s per rpm */
+
+static scenario_t scn;
+
+static void load(const char *name)
+{
+    char path[1024];
+    scn_error_t err;
+    snprintf(path, sizeof(path), "%s/%s", SCENARIOS_DIR, name);
+    if (!scenario_load(path, NULL, 0, &scn, &err)) {
+        char line[2048];
+        scenario_error_format(&err, line, sizeof(line));
+        fail_msg("%s", line);
+    }
+}
+
+static void near(double actual, double expected)
+{
+    assert_true(fabs(actual - expected) <= 1e-9 * fmax(1.0, fabs(expected)));
+}
+
+/* Paper 001 Section 5: motor and the benchmark speed/load profiles. */
+static void paper001_benchmark(void **state)
+{
+    (void)state;
+    load("paper001_benchmark_foc.json");
+    const plant_motor_params_t *m = &scn.plant.motor;
+    near(m->R_ohm, 0.225);
+    near(m->Ld_H, 3.8e-3);
+    near(m->Lq_H, 3.8e-3);
+    near(m->psi_Wb, 0.17);
+    assert_int_equal(m->pole_pairs, 3);
+    near(m->J_kgm2, 0.012);
+    near(scn.plant.inverter.f_pwm_Hz, 20e3);
+    near(scn.duration_s, 10.0);
+    assert_int_equal(scn.reference.mode, MC_MODE_SPEED);
+    /* 50 rpm/s to 50 rpm (1 s), hold to 3 s, 35 rpm/s to 120 rpm (5 s),
+     * hold 2 s, 60 rpm/s down to 0 (9 s), hold to 10 s */
+    const sim_profile_t *w = &scn.reference.value;
+    near(sim_profile_eval(w, 0.5), 25.0 * RPM);
+    near(sim_profile_eval(w, 2.0), 50.0 * RPM);
+    near(sim_profile_eval(w, 4.0), 85.0 * RPM);
+    near(sim_profile_eval(w, 6.0), 120.0 * RPM);
+    near(sim_profile_eval(w, 8.0), 60.0 * RPM);
+    near(sim_profile_eval(w, 9.5), 0.0);
+    /* 0 N m for t < 1 s and 2.5 <= t < 5 s, 1 N m otherwise */
+    const sim_profile_t *tl = &scn.plant.load_torque_Nm;
+    near(sim_profile_eval(tl, 0.5), 0.0);
+    near(sim_profile_eval(tl, 1.0), 1.0);
+    near(sim_profile_eval(tl, 2.49), 1.0);
+    near(sim_profile_eval(tl, 2.5), 0.0);
+    near(sim_profile_eval(tl, 4.99), 0.0);
+    near(sim_profile_eval(tl, 5.0), 1.0);
+    near(sim_profile_eval(tl, 9.9), 1.0);
+}
+
+/* Paper 002 Section IV: the experimental motor, Case I dead time. */
+static void paper002_case1(void **state)
+{
+    (void)state;
+    load("paper002_case1_foc.json");
+    const plant_motor_params_t *m = &scn.plant.motor;
+    near(m->R_ohm, 9.7);
+    near(m->Ld_H, 26e-3);
+    near(m->Lq_H, 26e-3);
+    near(m->psi_Wb, 0.084);
+    assert_int_equal(m->pole_pairs, 4);
+    near(m->J_kgm2, 1.35e-4);
+    near(m->B_Nm_s_rad, 7.4e-5);
+    assert_int_equal(m->cogging.slots, 32);
+    near(scn.plant.inverter.t_dead_s, 3e-6);
+    assert_int_equal(scn.plant.sensors.encoder.lines, 2500);
+    near(sim_profile_eval(&scn.reference.value, 0.2), 500.0 * RPM);
+    assert_true(scn.metrics.has_step && scn.metrics.has_steady_window);
+}
+
+/* Paper 000 Table 1 motor, g3 = 1/j + 1e4 sin(t), position regulation. */
+static void paper000_position(void **state)
+{
+    (void)state;
+    load("paper000_position_foc.json");
+    const plant_motor_params_t *m = &scn.plant.motor;
+    near(m->Ld_H, 20e-3);
+    near(m->R_ohm, 7.2);
+    near(m->J_kgm2, 0.55367e-4); /* 0.55367 kg cm^2 */
+    near(m->B_Nm_s_rad, 0.006);
+    assert_int_equal(m->pole_pairs, 8);
+    near(m->psi_Wb, 0.06);
+    near(m->g3_amplitude_per_kgm2, 1e4);
+    near(m->g3_omega_rad_s, 1.0);
+    assert_int_equal(scn.reference.mode, MC_MODE_POSITION);
+}
+
+/* The ```json block after "## A full example" in README.md, NUL-terminated
+ * in place inside text. */
+static char *readme_example(char *text)
+{
+    char *section = strstr(text, "## A full example");
+    assert_non_null(section);
+    char *start = strstr(section, "```json\n");
+    assert_non_null(start);
+    start += strlen("```json\n");
+    char *end = strstr(start, "\n```");
+    assert_non_null(end);
+    *end = '\0';
+    return start;
+}
+
+static void readme_full_example_is_valid(void **state)
+{
+    (void)state;
+    static char text[32768];
+    FILE *f = fopen(SCENARIOS_DIR "/README.md", "rb");
+    assert_non_null(f);
+    size_t n = fread(text, 1, sizeof(text) - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    scn_error_t err;
+    if (!scenario_load_text(readme_example(text), "README.md", NULL, 0, &scn, &err)) {
+        char line[2048];
+        scenario_error_format(&err, line, sizeof(line));
+        fail_msg("%s", line);
+    }
+    near(scn.plant.mismatch.R, 1.5);
+    assert_int_equal(scn.plant.motor.cogging.slots, 36);
+    assert_int_equal(scn.plant.substeps_per_period, 4);
+    assert_int_equal(scn.n_injections, 1);
+    near(scn.metrics.step_end_s, 1.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(paper001_benchmark),
+        cmocka_unit_test(paper002_case1),
+        cmocka_unit_test(paper000_position),
+        cmocka_unit_test(readme_full_example_is_valid),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
