@@ -1,8 +1,8 @@
 /* Default configuration and its validation (see mc/app.h). */
 #include <math.h>
 
+#include "app_internal.h"
 #include "mc/angle.h"
-#include "mc/app.h"
 
 #define MC_CFG_F_PWM_MIN_HZ 1000.0f
 #define MC_CFG_F_PWM_MAX_HZ 100000.0f
@@ -21,6 +21,7 @@
 /* PLL at least 2x above the speed loop it feeds. */
 #define MC_CFG_SPEED_TO_PLL_MAX 0.5f
 #define MC_CFG_PLL_WTS_MAX 0.5f
+#define MC_CFG_ALIGN_TIME_MAX_S 10.0f
 
 void mc_config_init_default(mc_config_t *cfg)
 {
@@ -57,7 +58,67 @@ void mc_config_init_default(mc_config_t *cfg)
                           .v_dc_min_V = 20.0f },
         .angle_source = MC_ANGLE_SOURCE_ENCODER,
         .controller = MC_CONTROLLER_FOC_PI,
+        /* Paper 001, Section 5 observer gains. */
+        .flux_obs_gamma = MC_FLUX_OBS_GAMMA_DEFAULT,
+        .speed_obs_a1 = MC_SPEED_LOAD_OBS_A1_DEFAULT,
+        .speed_obs_a2 = MC_SPEED_LOAD_OBS_A2_DEFAULT,
+        /* NAM PLL: 2x the speed loop (the rule of the encoder PLL). */
+        .sensorless_pll_bandwidth_rad_s = 100.0f,
+        /* Twice the speed limit; twice the torque at i_max (7.65 N m). */
+        .est_omega_max_rad_s = 80.0f,
+        .est_tau_max_Nm = 15.0f,
+        .est_flux_ratio_min = 0.5f,
+        .est_flux_ratio_max = 1.5f,
+        /* The drive's timing: sample at t_k, duties applied over
+         * [t_k + Ts, t_k + 2 Ts] (mc/delay_comp.h, d = 1.5). */
+        .delay_comp_enabled = true,
+        .delay_periods = MC_DELAY_PERIODS_DEFAULT,
+        .idapbc_r_ohm = 0.0f,
+        /* 2 A (1.53 N m of alignment torque per electrical rad), ramped
+         * over 0.1 s, 0.5 s in all. */
+        .align_current_A = 2.0f,
+        .align_ramp_s = 0.1f,
+        .align_time_s = 0.5f,
+        .align_angle_e_rad = 0.0f,
     };
+}
+
+/* Algorithm selection and the sensorless fields; the observers' and the
+ * delay compensation's own checks (Euler stability, ranges) run on a
+ * scratch instance (about 0.9 kB of stack, configuration time only). */
+static mc_status_t validate_sensorless(const mc_config_t *c)
+{
+    const bool src_ok = c->angle_source == MC_ANGLE_SOURCE_ENCODER ||
+                        c->angle_source == MC_ANGLE_SOURCE_FLUX_OBSERVER;
+    const bool ctl_ok = c->controller == MC_CONTROLLER_FOC_PI ||
+                        (c->controller == MC_CONTROLLER_IDAPBC &&
+                         c->angle_source == MC_ANGLE_SOURCE_FLUX_OBSERVER);
+    if (!src_ok || !ctl_ok) {
+        return MC_ERR_PARAM;
+    }
+    /* NAM: the speed loop at most half the PLL bandwidth that feeds it. */
+    const bool nam = c->angle_source == MC_ANGLE_SOURCE_FLUX_OBSERVER &&
+                     c->controller == MC_CONTROLLER_FOC_PI;
+    if (!(c->sensorless_pll_bandwidth_rad_s > 0.0f) ||
+        (nam && c->speed_bandwidth_rad_s >
+                    MC_CFG_SPEED_TO_PLL_MAX *
+                        c->sensorless_pll_bandwidth_rad_s)) {
+        return MC_ERR_PARAM;
+    }
+    if (!(c->est_omega_max_rad_s > 0.0f) || !(c->est_tau_max_Nm > 0.0f) ||
+        !(c->est_flux_ratio_min > 0.0f) || !(c->est_flux_ratio_min < 1.0f) ||
+        !(c->est_flux_ratio_max > 1.0f) || c->idapbc_r_ohm < 0.0f) {
+        return MC_ERR_PARAM;
+    }
+    if (!(c->align_current_A > 0.0f) || !(c->align_current_A < c->i_max_A) ||
+        c->align_ramp_s < 0.0f || c->align_ramp_s > c->align_time_s ||
+        !(c->align_time_s > 0.0f) ||
+        c->align_time_s > MC_CFG_ALIGN_TIME_MAX_S ||
+        fabsf(c->align_angle_e_rad) > MC_TWO_PI_F) {
+        return MC_ERR_PARAM;
+    }
+    mc_app_t scratch = { .Ts_s = 1.0f / c->f_pwm_hz };
+    return mc_app_sensorless_init(&scratch, c);
 }
 
 mc_status_t mc_config_validate(const mc_config_t *c)
@@ -67,7 +128,12 @@ mc_status_t mc_config_validate(const mc_config_t *c)
         c->f_pwm_hz, c->encoder_offset_e_rad, c->pll_bandwidth_rad_s,
         c->current_bandwidth_rad_s, c->speed_bandwidth_rad_s,
         c->position_kp_per_s, c->modulation_margin, c->i_max_A,
-        c->omega_max_rad_s, c->i_offset_max_A,
+        c->omega_max_rad_s, c->i_offset_max_A, c->flux_obs_gamma,
+        c->speed_obs_a1, c->speed_obs_a2, c->sensorless_pll_bandwidth_rad_s,
+        c->est_omega_max_rad_s, c->est_tau_max_Nm, c->est_flux_ratio_min,
+        c->est_flux_ratio_max, c->delay_periods, c->idapbc_r_ohm,
+        c->align_current_A, c->align_ramp_s, c->align_time_s,
+        c->align_angle_e_rad,
     };
     if (!mc_all_finite_f32(f, (uint32_t)(sizeof f / sizeof f[0]))) {
         return MC_ERR_NONFINITE;
@@ -122,10 +188,5 @@ mc_status_t mc_config_validate(const mc_config_t *c)
         !(c->i_offset_max_A > 0.0f)) {
         return MC_ERR_PARAM;
     }
-    /* Algorithm selection. */
-    if (c->angle_source != MC_ANGLE_SOURCE_ENCODER ||
-        c->controller != MC_CONTROLLER_FOC_PI) {
-        return MC_ERR_PARAM;
-    }
-    return MC_OK;
+    return validate_sensorless(c);
 }

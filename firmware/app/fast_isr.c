@@ -36,9 +36,11 @@ static void raise_faults(mc_app_t *app, uint32_t faults)
     }
 }
 
-/* Angle source (config enum): theta_e, theta_m, omega_m into *t. */
+/* Angle source (config enum): theta_e, theta_m, omega_m (and tau_L_hat,
+ * flux_ratio_sq when sensorless) into *t. */
 static uint32_t estimate(mc_app_t *app, uint32_t count, mc_telemetry_t *t)
 {
+    uint32_t faults = MC_FAULT_NONE;
     switch (app->cfg.angle_source) {
     case MC_ANGLE_SOURCE_ENCODER: {
         mc_encoder_estimate_t est;
@@ -50,11 +52,16 @@ static uint32_t estimate(mc_app_t *app, uint32_t count, mc_telemetry_t *t)
         t->omega_m_rad_s = est.omega_m_rad_s;
         break;
     }
+    case MC_ANGLE_SOURCE_FLUX_OBSERVER:
+        faults = mc_app_sensorless_estimate(app, t);
+        break;
     default:
         return MC_FAULT_NONFINITE; /* unreachable: init validates the enum */
     }
-    const float e[] = { t->theta_e_rad, t->theta_m_rad, t->omega_m_rad_s };
-    return mc_all_finite_f32(e, 3u) ? MC_FAULT_NONE : MC_FAULT_NONFINITE;
+    const float e[] = { t->theta_e_rad, t->theta_m_rad, t->omega_m_rad_s,
+                        t->tau_L_hat_Nm };
+    return faults |
+           (mc_all_finite_f32(e, 4u) ? MC_FAULT_NONE : MC_FAULT_NONFINITE);
 }
 
 static void start_run(mc_app_t *app)
@@ -67,6 +74,16 @@ static void start_run(mc_app_t *app)
     app->omega_m_ref_rad_s = 0.0f;
     app->mode = app->cmd.mode;
     app->state = MC_STATE_RUN;
+}
+
+/* Sensorless start: hold the rotor at the alignment angle first. */
+static void start_align(mc_app_t *app)
+{
+    mc_current_loop_reset_f32(&app->current);
+    app->align_count = 0u;
+    app->theta_m_hat_rad =
+        app->cfg.align_angle_e_rad / (float)app->cfg.pole_pairs;
+    app->state = MC_STATE_ALIGN;
 }
 
 /* Offset calibration with the PWM off: average calib_samples raw samples. */
@@ -91,7 +108,11 @@ static uint32_t calibrate(mc_app_t *app, const float i_raw_A[3])
         }
     }
     if (faults == MC_FAULT_NONE) {
-        start_run(app);
+        if (app->cfg.angle_source == MC_ANGLE_SOURCE_FLUX_OBSERVER) {
+            start_align(app);
+        } else {
+            start_run(app);
+        }
     }
     return faults;
 }
@@ -134,8 +155,10 @@ static void references(mc_app_t *app, const mc_command_t *cmd,
     }
     app->omega_m_ref_rad_s = w_ref;
     app->i_d_ref_A = 0.0f; /* surface PMSM: no reluctance torque */
-    app->i_q_ref_A = mc_speed_loop_step_f32(&app->speed, w_ref,
-                                            t->omega_m_rad_s);
+    if (app->cfg.controller == MC_CONTROLLER_FOC_PI) {
+        app->i_q_ref_A = mc_speed_loop_step_f32(&app->speed, w_ref,
+                                                t->omega_m_rad_s);
+    } /* IDA-PBC: the speed reference enters (11) directly */
 }
 
 /* sin and cos of the controller's electrical angle. */
@@ -153,10 +176,8 @@ static void measure_dq(mc_telemetry_t *t, mc_sincos_t *sc)
     mc_park_f32(i_al, i_be, sc->s, sc->c, &t->i_d_A, &t->i_q_A);
 }
 
-/* Baseline cascaded FOC: d/q PI + decoupling, inverse Park, SVPWM.
- * Fills the voltages and duties of *t. */
-static uint32_t control_foc_pi(mc_app_t *app, const mc_sincos_t *sc,
-                               mc_telemetry_t *t)
+/* Baseline current loop: d/q PI + decoupling; v_d, v_q of *t. */
+static uint32_t control_foc_pi(mc_app_t *app, mc_telemetry_t *t)
 {
     const float omega_e = (float)app->cfg.pole_pairs * t->omega_m_rad_s;
     mc_current_loop_out_t v;
@@ -172,19 +193,51 @@ static uint32_t control_foc_pi(mc_app_t *app, const mc_sincos_t *sc,
     t->v_d_V = v.v_d_V;
     t->v_q_V = v.v_q_V;
     t->v_saturated = v.saturated;
+    return MC_FAULT_NONE;
+}
 
+/* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
+ * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit.
+ * Also fills the alpha/beta voltage the inverter will apply. */
+static uint32_t modulate(mc_app_t *app, const mc_sincos_t *sc,
+                         mc_telemetry_t *t)
+{
+    mc_sincos_t scv = *sc;
+    if (app->delay_comp.enabled) {
+        const float theta_v = mc_delay_comp_angle_f32(
+            &app->delay_comp, t->theta_e_rad,
+            (float)app->cfg.pole_pairs * t->omega_m_rad_s);
+        if (!isfinite(theta_v)) {
+            return MC_FAULT_NONFINITE;
+        }
+        mc_sincos_f32(theta_v, &scv.s, &scv.c);
+    }
     float v_al;
     float v_be;
-    mc_inv_park_f32(v.v_d_V, v.v_q_V, sc->s, sc->c, &v_al, &v_be);
+    mc_inv_park_f32(t->v_d_V, t->v_q_V, scv.s, scv.c, &v_al, &v_be);
     mc_svpwm_out_f32_t pwm;
     if (mc_svpwm_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm) !=
         MC_OK) {
         return MC_FAULT_NONFINITE;
     }
+    t->v_saturated = t->v_saturated || pwm.overmodulated;
+    t->v_alpha_V = pwm.v_alpha_V;
+    t->v_beta_V = pwm.v_beta_V;
     for (uint32_t k = 0u; k < 3u; ++k) {
         t->duty_abc[k] = pwm.duty[k];
     }
     return MC_FAULT_NONE;
+}
+
+/* Non-finite anywhere in references or outputs is a fault. */
+static uint32_t check_outputs(const mc_telemetry_t *t)
+{
+    const float x[] = { t->i_d_ref_A, t->i_q_ref_A, t->omega_m_ref_rad_s,
+                        t->i_d_A, t->i_q_A, t->v_d_V, t->v_q_V,
+                        t->duty_abc[0], t->duty_abc[1], t->duty_abc[2] };
+    return mc_all_finite_f32(x, (uint32_t)(sizeof x / sizeof x[0]))
+               ? MC_FAULT_NONE
+               : MC_FAULT_NONFINITE;
 }
 
 static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
@@ -199,21 +252,49 @@ static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
     uint32_t faults;
     switch (app->cfg.controller) {
     case MC_CONTROLLER_FOC_PI:
-        faults = control_foc_pi(app, sc, t);
+        faults = control_foc_pi(app, t);
+        break;
+    case MC_CONTROLLER_IDAPBC:
+        faults = (cmd->mode == MC_MODE_CURRENT) ? control_foc_pi(app, t)
+                                                : mc_app_idapbc_voltages(app, t);
         break;
     default:
         faults = MC_FAULT_NONFINITE; /* unreachable: init validates it */
         break;
     }
-    /* Non-finite anywhere in references or outputs is a fault. */
-    const float x[] = { t->i_d_ref_A, t->i_q_ref_A, t->omega_m_ref_rad_s,
-                        t->i_d_A, t->i_q_A, t->v_d_V, t->v_q_V,
-                        t->duty_abc[0], t->duty_abc[1], t->duty_abc[2] };
-    if (!mc_all_finite_f32(x, (uint32_t)(sizeof x / sizeof x[0]))) {
-        faults |= MC_FAULT_NONFINITE;
+    if (faults == MC_FAULT_NONE) {
+        faults = modulate(app, sc, t);
     }
+    faults |= check_outputs(t);
     if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {
         faults |= MC_FAULT_NONFINITE;
+    }
+    return faults;
+}
+
+/* ALIGN: d current ramped to align_current_A at the alignment angle (the
+ * estimate() reports it outside RUN) through the current loop; at the end
+ * the observers start there and RUN begins. */
+static uint32_t align(mc_app_t *app, const mc_sincos_t *sc,
+                      mc_telemetry_t *t)
+{
+    const uint32_t n = ++app->align_count;
+    float ramp = 1.0f;
+    if (n < app->align_ramp_n) {
+        ramp = (float)n / (float)app->align_ramp_n; /* align_ramp_n > n */
+    }
+    t->i_d_ref_A = ramp * app->cfg.align_current_A;
+    t->i_q_ref_A = 0.0f;
+    uint32_t faults = control_foc_pi(app, t);
+    if (faults == MC_FAULT_NONE) {
+        faults = modulate(app, sc, t);
+    }
+    faults |= check_outputs(t);
+    if (faults == MC_FAULT_NONE && n >= app->align_total_n) {
+        faults = mc_app_sensorless_start(app, t->i_abc_A);
+        if (faults == MC_FAULT_NONE) {
+            start_run(app);
+        }
     }
     return faults;
 }
@@ -243,6 +324,13 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
             app->state = MC_STATE_IDLE;
         } else {
             raise_faults(app, calibrate(app, i_raw_A));
+        }
+        break;
+    case MC_STATE_ALIGN:
+        if (!cmd->enable) {
+            app->state = MC_STATE_IDLE;
+        } else {
+            raise_faults(app, align(app, sc, t));
         }
         break;
     case MC_STATE_RUN:
@@ -303,8 +391,9 @@ void mc_app_fast_isr(mc_app_t *app)
     /* Transitions, calibration, control. */
     state_machine(app, cmd, adc.i_abc_A, active, &sc, &t);
 
-    /* Write: duties for the next period, or everything off. */
-    if (app->state == MC_STATE_RUN) {
+    /* Write: duties for the next period, or everything off. The voltage
+     * they apply is recorded for the flux observer (mc/delay_comp.h). */
+    if (app->state == MC_STATE_RUN || app->state == MC_STATE_ALIGN) {
         hal_pwm_set_duties(t.duty_abc);
         hal_pwm_enable_outputs();
         hal_gpio_power_stage_enable(true);
@@ -314,7 +403,12 @@ void mc_app_fast_isr(mc_app_t *app)
             t.duty_abc[k] = MC_DUTY_ZERO_VOLTAGE;
         }
         hal_pwm_set_duties(t.duty_abc);
+        t.v_alpha_V = 0.0f;
+        t.v_beta_V = 0.0f;
     }
+    /* Finite here: checked in run()/align(), zero otherwise. */
+    (void)mc_applied_voltage_push_f32(&app->v_applied, t.v_alpha_V,
+                                      t.v_beta_V);
 
     /* Deadline check: counted; the limit-th consecutive overrun is a
      * fault, PWM off in this ISR. */

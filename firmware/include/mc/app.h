@@ -6,6 +6,10 @@
  * State machine:
  *   IDLE --enable--> CALIBRATING (PWM off, average calib_samples current
  *   samples = offsets) --done--> RUN (PWM on) --!enable--> IDLE
+ *   Sensorless (MC_ANGLE_SOURCE_FLUX_OBSERVER): CALIBRATING --done-->
+ *   ALIGN (PWM on: d-axis current ramped to align_current_A at the fixed
+ *   angle align_angle_e_rad for align_time_s, so the rotor settles there)
+ *   --done: observers start from that angle--> RUN; ALIGN --!enable--> IDLE.
  *   any --fault--> FAULT (PWM off in the same ISR call, latched)
  *   FAULT --clear_fault rising edge, no cause present--> IDLE
  * Every protection check runs in every ISR and state (under-voltage not in
@@ -40,9 +44,14 @@
 #include <stdint.h>
 
 #include "mc/current_loop.h"
+#include "mc/delay_comp.h"
 #include "mc/encoder_tracker.h"
 #include "mc/faults.h"
+#include "mc/flux_observer.h"
+#include "mc/idapbc.h"
+#include "mc/pll_observer.h"
 #include "mc/position_loop.h"
+#include "mc/speed_load_observer.h"
 #include "mc/speed_loop.h"
 #include "mc/status.h"
 
@@ -50,7 +59,9 @@ typedef enum {
     MC_STATE_IDLE = 0,
     MC_STATE_CALIBRATING,
     MC_STATE_RUN,
-    MC_STATE_FAULT
+    MC_STATE_FAULT,
+    MC_STATE_ALIGN         /* sensorless start (appended: keeps the values
+                              of the older states) */
 } mc_state_t;
 
 typedef enum {
@@ -60,11 +71,23 @@ typedef enum {
 } mc_mode_t;
 
 typedef enum {
-    MC_ANGLE_SOURCE_ENCODER = 0   /* incremental encoder + PLL speed */
+    MC_ANGLE_SOURCE_ENCODER = 0,  /* incremental encoder + PLL speed */
+    MC_ANGLE_SOURCE_FLUX_OBSERVER /* sensorless, currents only: gradient flux
+                                     observer (paper 001 (12)-(14)); speed
+                                     and load from the I&I observer (15)-(16)
+                                     with MC_CONTROLLER_IDAPBC, from the PLL
+                                     (mc/pll_observer.h, whose angle the
+                                     controller then uses) with
+                                     MC_CONTROLLER_FOC_PI: the "NAM"
+                                     baseline of paper 001, Fig. 11 */
 } mc_angle_source_t;
 
 typedef enum {
-    MC_CONTROLLER_FOC_PI = 0      /* baseline cascaded FOC (this module) */
+    MC_CONTROLLER_FOC_PI = 0,     /* baseline cascaded FOC (this module) */
+    MC_CONTROLLER_IDAPBC          /* paper 001 output-feedback speed
+                                     controller (11) in speed and position
+                                     modes (current mode: the FOC current
+                                     loop); needs the flux observer */
 } mc_controller_t;
 
 /* Configuration. Motor parameters are the controller's NOMINAL values (the
@@ -101,6 +124,26 @@ typedef struct {
     /* algorithm selection */
     mc_angle_source_t angle_source;
     mc_controller_t controller;
+    /* sensorless estimation (MC_ANGLE_SOURCE_FLUX_OBSERVER) */
+    float flux_obs_gamma;         /* gamma of (12), 1/(Wb^2 s), > 0 */
+    float speed_obs_a1;           /* I&I gain a1 of (15), > 0 */
+    float speed_obs_a2;           /* I&I gain a2 of (15), > 0 */
+    float sensorless_pll_bandwidth_rad_s; /* NAM PLL, >= 2 x speed loop */
+    float est_omega_max_rad_s;    /* |omega_hat| above: MC_FAULT_ESTIMATE */
+    float est_tau_max_Nm;         /* |tau_hat| above: MC_FAULT_ESTIMATE */
+    float est_flux_ratio_min;     /* |rho_hat| (= |eta| / psi) outside */
+    float est_flux_ratio_max;     /* [min, max]: MC_FAULT_ESTIMATE */
+    bool delay_comp_enabled;      /* advance the output voltage angle by
+                                     n_p omega_hat delay_periods Ts */
+    float delay_periods;          /* sample -> applied-voltage centre in
+                                     periods, [0.5, 1.5] (mc/delay_comp.h) */
+    float idapbc_r_ohm;           /* damping r of (11); 0 = critically
+                                     damped (mc_idapbc_critical_damping_f32) */
+    /* sensorless start (ALIGN state) */
+    float align_current_A;        /* d-axis current, (0, i_max_A) */
+    float align_ramp_s;           /* linear ramp time, [0, align_time_s] */
+    float align_time_s;           /* total, ramp included, (0, 10] */
+    float align_angle_e_rad;      /* electrical angle, |.| <= 2 pi */
 } mc_config_t;
 
 /* Command set from outside the ISR. */
@@ -126,10 +169,16 @@ typedef struct {
     float i_d_A, i_q_A;
     float i_d_ref_A, i_q_ref_A;
     float v_d_V, v_q_V;           /* voltage references (after the limit) */
+    float v_alpha_V, v_beta_V;    /* voltage the duties apply (after the
+                                     modulator's limit; 0 with PWM off) */
     bool v_saturated;
     float theta_e_rad;            /* angle used by the controller */
     float theta_m_rad;            /* multi-turn mechanical position */
     float omega_m_rad_s;          /* speed estimate */
+    float tau_L_hat_Nm;           /* load-torque estimate (sensorless; 0
+                                     with the encoder) */
+    float flux_ratio_sq;          /* |rho_hat|^2 of the flux observer
+                                     (sensorless; 1 when converged) */
     float omega_m_ref_rad_s;
     float theta_m_ref_rad;
     float duty_abc[3];            /* written to the HAL (next period) */
@@ -166,6 +215,20 @@ typedef struct {
     uint32_t slow_counter;
     float i_d_ref_A, i_q_ref_A;   /* held between slow-loop runs */
     float omega_m_ref_rad_s;
+    /* sensorless estimation and the paper-001 controller */
+    float kt_Nm_per_A;            /* 1.5 n_p psi (amplitude-invariant) */
+    mc_flux_obs_f32_t flux_obs;
+    mc_speed_load_obs_f32_t speed_obs;
+    mc_pll_obs_f32_t pll_obs;
+    mc_idapbc_f32_t idapbc;
+    mc_delay_comp_f32_t delay_comp;
+    mc_applied_voltage_f32_t v_applied; /* commands -> voltage over the
+                                           last sample interval */
+    float i_q_hat_prev_A;         /* i_q_hat at the previous sample */
+    float theta_e_hat_prev_rad;   /* for the multi-turn position */
+    float theta_m_hat_rad;        /* multi-turn position estimate */
+    uint32_t align_count;         /* ISRs spent in ALIGN */
+    uint32_t align_ramp_n, align_total_n;
     /* timing */
     uint32_t isr_count;
     float isr_cost_s;             /* cost of the latest complete ISR */

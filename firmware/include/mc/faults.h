@@ -25,7 +25,10 @@ typedef enum {
     MC_FAULT_ISR_OVERRUN     = 1u << 4, /* fast-ISR cost > PWM period */
     MC_FAULT_EXTERNAL        = 1u << 5, /* fault/STO input asserted */
     MC_FAULT_CALIBRATION     = 1u << 6, /* current offset outside its limit */
-    MC_FAULT_ENCODER         = 1u << 7  /* count outside [0, cpr) */
+    MC_FAULT_ENCODER         = 1u << 7, /* count outside [0, cpr) */
+    MC_FAULT_ESTIMATE        = 1u << 8  /* sensorless estimate implausible
+                                           (speed, load or flux out of its
+                                           bounds: diverged observer) */
 } mc_fault_t;
 
 /* Protection thresholds (SI units). */

@@ -47,6 +47,23 @@ MUT(vdc_order, c->fault_limits.v_dc_min_V = 70.0f)
 MUT(vdc_nan, c->fault_limits.v_dc_max_V = NAN)
 MUT(src_bad, c->angle_source = (mc_angle_source_t)5)
 MUT(ctrl_bad, c->controller = (mc_controller_t)5)
+/* Sensorless fields. */
+MUT(idapbc_encoder, c->controller = MC_CONTROLLER_IDAPBC) /* needs flux obs */
+MUT(nam_ws_vs_pll, (c->angle_source = MC_ANGLE_SOURCE_FLUX_OBSERVER,
+                    c->sensorless_pll_bandwidth_rad_s = 90.0f)) /* w_s > /2 */
+MUT(gamma_nan, c->flux_obs_gamma = NAN)
+MUT(gamma_unstable, c->flux_obs_gamma = 1e6f)   /* Ts > 1/(gamma psi^2) */
+MUT(a1_zero, c->speed_obs_a1 = 0.0f)
+MUT(est_w_zero, c->est_omega_max_rad_s = 0.0f)
+MUT(est_tau_zero, c->est_tau_max_Nm = 0.0f)
+MUT(rho_min_1, c->est_flux_ratio_min = 1.0f)
+MUT(rho_max_1, c->est_flux_ratio_max = 1.0f)
+MUT(delay_big, c->delay_periods = 2.0f)
+MUT(r_damp_neg, c->idapbc_r_ohm = -0.1f)
+MUT(align_i_big, c->align_current_A = 10.0f)    /* not < i_max */
+MUT(align_ramp_long, c->align_ramp_s = 0.6f)    /* > align_time_s */
+MUT(align_time_zero, (c->align_time_s = 0.0f, c->align_ramp_s = 0.0f))
+MUT(align_angle_big, c->align_angle_e_rad = 7.0f)
 
 static const struct {
     mutate_fn f;
@@ -68,6 +85,14 @@ static const struct {
     { offmax_zero, MC_ERR_PARAM }, { trip_zero, MC_ERR_PARAM },
     { vdc_order, MC_ERR_PARAM }, { vdc_nan, MC_ERR_NONFINITE },
     { src_bad, MC_ERR_PARAM }, { ctrl_bad, MC_ERR_PARAM },
+    { idapbc_encoder, MC_ERR_PARAM }, { nam_ws_vs_pll, MC_ERR_PARAM },
+    { gamma_nan, MC_ERR_NONFINITE }, { gamma_unstable, MC_ERR_PARAM },
+    { a1_zero, MC_ERR_PARAM }, { est_w_zero, MC_ERR_PARAM },
+    { est_tau_zero, MC_ERR_PARAM }, { rho_min_1, MC_ERR_PARAM },
+    { rho_max_1, MC_ERR_PARAM }, { delay_big, MC_ERR_PARAM },
+    { r_damp_neg, MC_ERR_PARAM }, { align_i_big, MC_ERR_PARAM },
+    { align_ramp_long, MC_ERR_PARAM }, { align_time_zero, MC_ERR_PARAM },
+    { align_angle_big, MC_ERR_PARAM },
 };
 
 static void test_default_config_is_valid(void **state)

@@ -1,0 +1,66 @@
+/*
+ * Paper 001, Section 5.1 benchmark in closed loop (shared by the
+ * test_p001_* executables): the paper's motor on the fixture's 48 V,
+ * 20 kHz plant (ideal sensors, no dead time), currents the only
+ * measurement the sensorless controller uses.
+ *
+ * Benchmark time tb = t - BENCH_T0_S: the drive calibrates its current
+ * offsets (25.6 ms) and aligns the rotor (0.5 s) before tb = 0 and holds a
+ * zero speed reference in RUN until then. Speed reference: 0 -> 50 rpm at
+ * 50 rpm/s (tb = 1 s), hold to 3 s, 35 rpm/s to 120 rpm (5 s), hold to
+ * 7 s, 60 rpm/s down to 0 (9 s), hold to 10 s. Load: 0 N m for tb < 1 s
+ * and 2.5 <= tb < 5 s, 1 N m otherwise.
+ *
+ * Metrics from the engine's TRUE plant state against the reference and
+ * the true load (not from the controller's own estimates).
+ */
+#ifndef TEST_P001_BENCH_H
+#define TEST_P001_BENCH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "sim_fixture.h"
+
+#define BENCH_T0_S 0.6
+#define BENCH_LENGTH_S 10.0
+#define BENCH_RPM_PER_RAD_S (60.0 / (2.0 * 3.14159265358979323846))
+
+typedef struct {
+    double rms_speed_err_120_rpm;   /* tb in [5.5, 7) */
+    double rms_speed_err_50_rpm;    /* tb in [1.5, 2.5) */
+    double dip_load_1s_rpm;         /* max (ref - w) in tb [1, 1.5) */
+    double dip_load_5s_rpm;         /* max (ref - w) in tb [5, 5.5) */
+    double rms_angle_err_50_rad;    /* tb in [1.5, 3), electrical */
+    double rms_angle_err_120_rad;   /* tb in [5.5, 7) */
+    double rms_tau_err_120_Nm;      /* tau_hat - tau_L, tb in [5.5, 7) */
+    double max_speed_err_moving_rpm;/* |ref - w|, tb in [0.5, 8.5) */
+    double max_angle_err_moving_rad;/* tb in [0.5, 8.5) */
+    double peak_current_A;          /* max |i_abc| from enable to the end */
+    /* zero speed at the end, tb in [9.5, 10) */
+    double max_abs_speed_end_rpm;
+    double max_angle_err_end_rad;
+    double max_tau_err_end_Nm;
+    /* faults */
+    uint32_t faults;                /* latched at the end */
+    double t_first_fault_s;         /* tb of the first fault, or -1 */
+} bench_result_t;
+
+/* Plant of the fixture with the benchmark load and these mismatch
+ * multipliers (plant = nominal * m; the controller stays nominal). */
+void bench_plant_config(plant_config_t *pc, double m_R, double m_L,
+                        double m_psi);
+
+/* Firmware: sensorless (flux observer) with this controller
+ * (MC_CONTROLLER_IDAPBC = paper, MC_CONTROLLER_FOC_PI = NAM baseline). */
+void bench_fw_config(mc_config_t *fc, mc_controller_t controller);
+
+/* Speed reference (rpm) at benchmark time tb (s). */
+double bench_ref_rpm(double tb_s);
+
+/* Run the whole benchmark (asserts the drive reaches RUN before
+ * BENCH_T0_S), print the metrics with `label`, return them. */
+bench_result_t bench_run(const plant_config_t *pc, const mc_config_t *fc,
+                         const char *label);
+
+#endif /* TEST_P001_BENCH_H */
