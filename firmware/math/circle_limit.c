@@ -15,23 +15,30 @@ static bool radius_valid(float r_max)
     return (r_max >= FLT_MIN) && (r_max <= FLT_MAX); /* false for NaN */
 }
 
-static bool set_nan(float *x_d, float *x_q)
+/* The input contract both limits share (see the header). Returns true when
+ * the limit is to be applied to the finite vector (*x_d, *x_q); otherwise
+ * *changed is the limit's result: true after an invalid r_max set both
+ * components to NaN, false for a non-finite vector (left unchanged). */
+static bool limit_applies(float *x_d, float *x_q, float r_max, bool *changed)
 {
-    *x_d = NAN;
-    *x_q = NAN;
-    return true;
+    if (!radius_valid(r_max)) {
+        *x_d = NAN;
+        *x_q = NAN;
+        *changed = true;
+        return false;
+    }
+    *changed = false;
+    return isfinite(*x_d) && isfinite(*x_q);
 }
 
 bool mc_circle_limit_f32(float *x_d, float *x_q, float r_max)
 {
-    if (!radius_valid(r_max)) {
-        return set_nan(x_d, x_q);
+    bool changed;
+    if (!limit_applies(x_d, x_q, r_max, &changed)) {
+        return changed;
     }
     const float d = *x_d;
     const float q = *x_q;
-    if (!isfinite(d) || !isfinite(q)) {
-        return false;
-    }
     const float inv_r = 1.0f / r_max; /* guarded: r_max >= FLT_MIN */
     const float d_n = d * inv_r;
     const float q_n = q * inv_r;
@@ -57,14 +64,12 @@ bool mc_circle_limit_f32(float *x_d, float *x_q, float r_max)
 
 bool mc_circle_limit_d_priority_f32(float *x_d, float *x_q, float r_max)
 {
-    if (!radius_valid(r_max)) {
-        return set_nan(x_d, x_q);
+    bool changed;
+    if (!limit_applies(x_d, x_q, r_max, &changed)) {
+        return changed;
     }
     const float d = *x_d;
     const float q = *x_q;
-    if (!isfinite(d) || !isfinite(q)) {
-        return false;
-    }
     const float inv_r = 1.0f / r_max; /* guarded: r_max >= FLT_MIN */
     bool limited = false;
     float abs_d = fabsf(d);

@@ -5,6 +5,8 @@
 
 #include "mc/angle.h"
 
+#include "reset_angle.h"
+
 static int all_finite4(float a, float b, float c, float d)
 {
     return isfinite(a) && isfinite(b) && isfinite(c) && isfinite(d);
@@ -40,13 +42,11 @@ mc_status_t mc_flux_obs_init_f32(mc_flux_obs_f32_t *obs,
 mc_status_t mc_flux_obs_reset_f32(mc_flux_obs_f32_t *obs, float theta_e_rad,
                                   float i_alpha_A, float i_beta_A)
 {
-    if (!isfinite(theta_e_rad) || !isfinite(i_alpha_A) ||
-        !isfinite(i_beta_A)) {
-        return MC_ERR_NONFINITE;
-    }
-    const float theta = mc_wrap_pi_f32(theta_e_rad);
-    if (!isfinite(theta)) { /* outside the wrap's accepted range */
-        return MC_ERR_RANGE;
+    float theta;
+    const mc_status_t st =
+        mc_obs_reset_angle_f32(theta_e_rad, i_alpha_A, i_beta_A, &theta);
+    if (st != MC_OK) {
+        return st;
     }
     float s, c;
     mc_sincos_f32(theta, &s, &c);

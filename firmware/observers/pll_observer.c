@@ -7,6 +7,7 @@
 #include "mc/angle.h"
 
 #include "compensated_sum.h"
+#include "reset_angle.h"
 
 mc_status_t mc_pll_obs_init_f32(mc_pll_obs_f32_t *pll,
                                 const mc_pll_obs_params_t *p)
@@ -43,13 +44,11 @@ mc_status_t mc_pll_obs_init_f32(mc_pll_obs_f32_t *pll,
 mc_status_t mc_pll_obs_reset_f32(mc_pll_obs_f32_t *pll, float theta_e_rad,
                                  float omega_m_rad_s, float tau_L_Nm)
 {
-    if (!isfinite(theta_e_rad) || !isfinite(omega_m_rad_s) ||
-        !isfinite(tau_L_Nm)) {
-        return MC_ERR_NONFINITE;
-    }
-    const float theta = mc_wrap_pi_f32(theta_e_rad);
-    if (!isfinite(theta)) {
-        return MC_ERR_RANGE;
+    float theta;
+    const mc_status_t st =
+        mc_obs_reset_angle_f32(theta_e_rad, omega_m_rad_s, tau_L_Nm, &theta);
+    if (st != MC_OK) {
+        return st;
     }
     pll->theta_e_rad = theta;
     pll->theta_comp_rad = 0.0f;

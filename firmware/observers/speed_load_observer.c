@@ -7,6 +7,7 @@
 #include "mc/angle.h"
 
 #include "compensated_sum.h"
+#include "reset_angle.h"
 
 /* Jury test: both eigenvalues of the Euler map I + Ts A33 inside the unit
  * circle. For z^2 - T z + D: |D| < 1, 1 - T + D > 0, 1 + T + D > 0. */
@@ -50,13 +51,11 @@ mc_status_t mc_speed_load_obs_reset_f32(mc_speed_load_obs_f32_t *obs,
                                         float theta_e_rad, float omega_m_rad_s,
                                         float tau_L_Nm)
 {
-    if (!isfinite(theta_e_rad) || !isfinite(omega_m_rad_s) ||
-        !isfinite(tau_L_Nm)) {
-        return MC_ERR_NONFINITE;
-    }
-    const float theta = mc_wrap_pi_f32(theta_e_rad);
-    if (!isfinite(theta)) {
-        return MC_ERR_RANGE;
+    float theta;
+    const mc_status_t st =
+        mc_obs_reset_angle_f32(theta_e_rad, omega_m_rad_s, tau_L_Nm, &theta);
+    if (st != MC_OK) {
+        return st;
     }
     obs->theta_e_prev_rad = theta;
     obs->omega_m_rad_s = omega_m_rad_s;

@@ -82,18 +82,28 @@ static bool in_range(double v, jr_range_t r)
     return above_lo && below_hi;
 }
 
-/* Check that item is a finite number in range; path names it in errors. */
-static bool check_number(const cJSON *item, const char *path, jr_range_t range,
-                         scn_error_t *err, double *out)
+/* Check that item is a finite number; a wrong type names expected. */
+static bool check_finite(const cJSON *item, const char *path, const char *expected,
+                         scn_error_t *err)
 {
-    char expected[96];
-    range_text(range, expected, sizeof(expected));
     if (!cJSON_IsNumber(item)) {
         fail_at(err, SCN_ERR_TYPE, path, expected, item);
         return false;
     }
     if (!isfinite(item->valuedouble)) {
         fail_at(err, SCN_ERR_NONFINITE, path, "finite number", item);
+        return false;
+    }
+    return true;
+}
+
+/* Check that item is a finite number in range; path names it in errors. */
+static bool check_number(const cJSON *item, const char *path, jr_range_t range,
+                         scn_error_t *err, double *out)
+{
+    char expected[96];
+    range_text(range, expected, sizeof(expected));
+    if (!check_finite(item, path, expected, err)) {
         return false;
     }
     if (!in_range(item->valuedouble, range)) {
@@ -122,6 +132,21 @@ static bool missing(jr_object_t *obj, const char *path, const char *expected)
 {
     scenario_error_set(obj->err, SCN_ERR_MISSING, path, expected, NULL);
     return false;
+}
+
+/* lookup, then report a required key that is absent (expected says what it
+ * should have been). Returns false after an error; otherwise *item is NULL
+ * for an absent optional key. */
+static bool lookup_value(jr_object_t *obj, const char *key, bool required, const char *expected,
+                         const cJSON **item, char *path)
+{
+    if (!lookup(obj, key, item, path)) {
+        return false;
+    }
+    if (*item == NULL && required) {
+        return missing(obj, path, expected);
+    }
+    return true;
 }
 
 static void init_object(jr_object_t *obj, const cJSON *json, const char *path, scn_error_t *err)
@@ -192,17 +217,14 @@ bool jr_object_opt(jr_object_t *obj, const char *key, jr_object_t *child)
 static bool number_impl(jr_object_t *obj, const char *key, jr_range_t range, bool required,
                         double def, double *out)
 {
+    char expected[96];
+    range_text(range, expected, sizeof(expected));
     const cJSON *item;
     char path[SCN_PATH_MAX];
-    if (!lookup(obj, key, &item, path)) {
+    if (!lookup_value(obj, key, required, expected, &item, path)) {
         return false;
     }
     if (item == NULL) {
-        if (required) {
-            char expected[96];
-            range_text(range, expected, sizeof(expected));
-            return missing(obj, path, expected);
-        }
         *out = def;
         return true;
     }
@@ -228,25 +250,17 @@ static bool uint_impl(jr_object_t *obj, const char *key, uint64_t lo, uint64_t h
              (unsigned long long)hi);
     const cJSON *item;
     char path[SCN_PATH_MAX];
-    if (!lookup(obj, key, &item, path)) {
+    if (!lookup_value(obj, key, required, expected, &item, path)) {
         return false;
     }
     if (item == NULL) {
-        if (required) {
-            return missing(obj, path, expected);
-        }
         *out = def;
         return true;
     }
-    if (!cJSON_IsNumber(item)) {
-        fail_at(obj->err, SCN_ERR_TYPE, path, expected, item);
+    if (!check_finite(item, path, expected, obj->err)) {
         return false;
     }
     double v = item->valuedouble;
-    if (!isfinite(v)) {
-        fail_at(obj->err, SCN_ERR_NONFINITE, path, "finite number", item);
-        return false;
-    }
     if (v != floor(v)) {
         fail_at(obj->err, SCN_ERR_TYPE, path, expected, item);
         return false;
@@ -340,13 +354,10 @@ static bool enum_impl(jr_object_t *obj, const char *key, const char *const *name
     names_text(names, n, expected, sizeof(expected));
     const cJSON *item;
     char path[SCN_PATH_MAX];
-    if (!lookup(obj, key, &item, path)) {
+    if (!lookup_value(obj, key, required, expected, &item, path)) {
         return false;
     }
     if (item == NULL) {
-        if (required) {
-            return missing(obj, path, expected);
-        }
         *index = def;
         return true;
     }
@@ -384,12 +395,17 @@ static void init_array(jr_array_t *arr, const char *path, scn_error_t *err)
     arr->size = 0;
 }
 
+static void array_text(size_t min_len, size_t max_len, char *buf, size_t size)
+{
+    snprintf(buf, size, "array of %zu to %zu elements", min_len, max_len);
+}
+
 /* item (may be NULL = absent) must be an array of min_len..max_len elements. */
 static bool check_array(const cJSON *item, const char *path, size_t min_len, size_t max_len,
                         scn_error_t *err, jr_array_t *arr)
 {
     char expected[96];
-    snprintf(expected, sizeof(expected), "array of %zu to %zu elements", min_len, max_len);
+    array_text(min_len, max_len, expected, sizeof(expected));
     init_array(arr, path, err);
     if (!cJSON_IsArray(item)) {
         fail_at(err, SCN_ERR_TYPE, path, expected, item);
@@ -418,8 +434,7 @@ static bool array_impl(jr_object_t *obj, const char *key, size_t min_len, size_t
         init_array(arr, path, obj->err);
         if (required) {
             char expected[96];
-            snprintf(expected, sizeof(expected), "array of %zu to %zu elements", min_len,
-                     max_len);
+            array_text(min_len, max_len, expected, sizeof(expected));
             return missing(obj, path, expected);
         }
         return true;

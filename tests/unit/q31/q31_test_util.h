@@ -1,7 +1,8 @@
 /*
- * Shared helpers for the Q31 tests: a seeded PRNG, Q31 <-> real conversions
- * done independently of the code under test, and the float32 error model
- * used to derive comparison bounds against the float implementations.
+ * Shared helpers for the Q31 tests: a seeded PRNG (on test_rng.h), Q31 <->
+ * real conversions done independently of the code under test, and the
+ * float32 error model used to derive comparison bounds against the float
+ * implementations.
  */
 #ifndef Q31_TEST_UTIL_H
 #define Q31_TEST_UTIL_H
@@ -9,6 +10,8 @@
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
+
+#include "test_rng.h"
 
 /* Exact references use long double: every int64, every product of two
  * int32 and every sum of two such products must be representable. */
@@ -19,27 +22,19 @@ _Static_assert(LDBL_MANT_DIG >= 64, "exact reference needs a 64-bit mantissa");
 #define U_F32 (1.0 / 16777216.0)
 #define TEST_PI 3.14159265358979323846
 
-/* xorshift64*: deterministic, seeded per test */
-static inline uint64_t prng_next(uint64_t *state)
-{
-    uint64_t x = *state;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    *state = x;
-    return x * 0x2545F4914F6CDD1DULL;
-}
+/* Seeded per test: raw xorshift64* state, stepped by test_rng_next_u64
+ * (test_rng.h). */
 
 /* uniform int32 over the full range */
 static inline int32_t prng_q31(uint64_t *state)
 {
-    return (int32_t)(uint32_t)(prng_next(state) >> 32);
+    return (int32_t)(uint32_t)(test_rng_next_u64(state) >> 32);
 }
 
 /* uniform real in [lo, hi) */
 static inline double prng_uniform(uint64_t *state, double lo, double hi)
 {
-    return lo + (hi - lo) * (double)(prng_next(state) >> 11) * 0x1.0p-53;
+    return lo + (hi - lo) * (double)(test_rng_next_u64(state) >> 11) * 0x1.0p-53;
 }
 
 static inline double q31_to_real(int32_t x)

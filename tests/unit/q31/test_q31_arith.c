@@ -47,9 +47,9 @@ static void test_asr_and_round_shift(void **state)
     (void)state;
     uint64_t seed = 0x51A7E5EEDULL;
     for (int i = 0; i < N_RANDOM; ++i) {
-        const unsigned n = 1U + (unsigned)(prng_next(&seed) % 63U); /* 1..63 */
+        const unsigned n = 1U + (unsigned)(test_rng_next_u64(&seed) % 63U); /* 1..63 */
         /* any int64 for asr; |x| <= 2^62 for round_shift's precondition */
-        const int64_t x = (int64_t)prng_next(&seed);
+        const int64_t x = (int64_t)test_rng_next_u64(&seed);
         const int64_t x62 = x / 2;
         assert_true(mc_q63_asr(x, n) == (int64_t)floorl(ldexpl((long double)x, -(int)n)));
         if (n <= 62U) {
@@ -191,7 +191,7 @@ static void test_isqrt_exact(void **state)
     assert_int_equal(mc_u64_isqrt(UINT64_MAX), UINT32_MAX);
     uint64_t seed = 0x5147ULL;
     for (int i = 0; i < N_RANDOM; ++i) {
-        const uint64_t x = prng_next(&seed) >> (prng_next(&seed) % 64U);
+        const uint64_t x = test_rng_next_u64(&seed) >> (test_rng_next_u64(&seed) % 64U);
         assert_isqrt(x);
         const uint64_t r = x >> 32; /* perfect squares and their neighbours */
         assert_isqrt(r * r);
