@@ -4,10 +4,10 @@
 #include <math.h>
 #include <string.h>
 
-static report_item_t *add_item(report_t *rep, const char *key, const char *unit_suffix,
-                               const char *label, const char *unit)
+report_item_t *report_add_item(report_item_t *items, size_t *n, const char *key,
+                               const char *unit_suffix, const char *label, const char *unit)
 {
-    report_item_t *it = &rep->items[rep->n_items++];
+    report_item_t *it = &items[(*n)++];
     if (unit_suffix != NULL) {
         snprintf(it->key, sizeof(it->key), "%s_%s", key, unit_suffix);
     } else {
@@ -17,6 +17,12 @@ static report_item_t *add_item(report_t *rep, const char *key, const char *unit_
     snprintf(it->unit, sizeof(it->unit), "%s", unit);
     it->value = NAN;
     return it;
+}
+
+static report_item_t *add_item(report_t *rep, const char *key, const char *unit_suffix,
+                               const char *label, const char *unit)
+{
+    return report_add_item(rep->items, &rep->n_items, key, unit_suffix, label, unit);
 }
 
 /* Step metrics on the samples up to metrics.step.t_end_s (later events such
@@ -64,6 +70,7 @@ void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
     const sim_signal_t i_peak = { .t = ser->t_s, .y = ser->i_peak_A, .n = ser->n };
     const sim_signal_t v_peak = { .t = ser->t_s, .y = ser->v_peak_V, .n = ser->n };
     memset(rep, 0, sizeof(*rep));
+    rep->time_offset_s = s->time_offset_s;
 
     if (m->has_step) {
         compute_step(s, &y, rep);
@@ -81,10 +88,12 @@ void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
 
     for (size_t i = 0; i < m->n_load_steps; i++) {
         report_dip_t *d = &rep->dips[rep->n_dips++];
-        d->t_s = m->load_step_t_s[i];
+        d->t_s = m->load_step_t_s[i] - s->time_offset_s;
         d->max_dip = NAN;
         d->dip_time_s = NAN;
-        d->status = sim_metrics_max_dip(&y, ser->ref, d->t_s, m->dip_window_s, &d->max_dip,
-                                        &d->dip_time_s);
+        d->status = sim_metrics_max_dip(&y, ser->ref, m->load_step_t_s[i], m->dip_window_s,
+                                        &d->max_dip, &d->dip_time_s);
+        d->dip_time_s -= s->time_offset_s;
     }
+    report_compute_windows(s, ser, rep);
 }

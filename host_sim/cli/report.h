@@ -11,7 +11,17 @@
  *                               default the whole run), peak_phase_current_A,
  *                               peak_phase_voltage_V
  *   metrics.load_steps_s        one max_dip_<u> per load step
- * <u> is the reference's display unit: rpm, rad_s, rad or A.
+ *   metrics.windows             per named window: rms_error_<u>,
+ *                               max_abs_error_<u>, max_abs_<mode>_<u> (|y|:
+ *                               the zero-speed report), rms_angle_error_e_rad,
+ *                               max_angle_error_e_rad (controller theta_e vs
+ *                               the true one, wrapped) and, with the
+ *                               sensorless angle source (which estimates the
+ *                               load), rms_load_estimate_error_Nm and
+ *                               max_load_estimate_error_Nm (vs the true load)
+ * <u> is the reference's display unit: rpm, rad_s, rad or A. Times (load
+ * steps, windows, dip times) are reported in profile time, t - time_offset_s,
+ * as the scenario writes them.
  * A metric that cannot be computed is null in JSON, with the reason under
  * "unavailable" (for a load step: in its own "unavailable" member), and
  * "n/a (reason)" in the table.
@@ -45,12 +55,32 @@ typedef struct {
     sim_metrics_status_t status;
 } report_dip_t;
 
+#define REPORT_WINDOW_ITEMS 8
+
 typedef struct {
+    char name[SCENARIO_WINDOW_NAME_MAX];
+    double t0_s, t1_s;          /* profile time */
+    report_item_t items[REPORT_WINDOW_ITEMS];
+    size_t n_items;
+} report_window_t;
+
+typedef struct {
+    double time_offset_s;       /* profile time = simulated time - this */
     report_item_t items[REPORT_MAX_ITEMS];
     size_t n_items;
     report_dip_t dips[SCENARIO_MAX_LOAD_STEPS];
     size_t n_dips;
+    report_window_t windows[SCENARIO_MAX_WINDOWS];
+    size_t n_windows;
 } report_t;
+
+/* Append an item (value NAN) to items[*n] and return it; key gets "_<suffix>"
+ * unless unit_suffix is NULL. The caller guarantees the room. */
+report_item_t *report_add_item(report_item_t *items, size_t *n, const char *key,
+                               const char *unit_suffix, const char *label, const char *unit);
+
+/* The metrics.windows part of report_compute(). */
+void report_compute_windows(const scenario_t *s, const run_series_t *ser, report_t *rep);
 
 void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep);
 

@@ -23,6 +23,23 @@ static void add_metric(cJSON *metrics, cJSON *unavailable, const char *key, doub
     }
 }
 
+/* "windows": {name: {t0_s, t1_s, <metrics>, unavailable}} (profile time). */
+static void add_windows(cJSON *root, const report_t *rep)
+{
+    cJSON *windows = cJSON_AddObjectToObject(root, "windows");
+    for (size_t i = 0; i < rep->n_windows; i++) {
+        const report_window_t *w = &rep->windows[i];
+        cJSON *o = cJSON_AddObjectToObject(windows, w->name);
+        cJSON_AddNumberToObject(o, "t0_s", w->t0_s);
+        cJSON_AddNumberToObject(o, "t1_s", w->t1_s);
+        cJSON *unavailable = cJSON_CreateObject();
+        for (size_t j = 0; j < w->n_items; j++) {
+            add_metric(o, unavailable, w->items[j].key, w->items[j].value, w->items[j].status);
+        }
+        cJSON_AddItemToObject(o, "unavailable", unavailable);
+    }
+}
+
 static cJSON *build_json(const char *scenario_file, const scenario_t *s, const run_result_t *res,
                          const report_t *rep)
 {
@@ -34,6 +51,7 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
     cJSON_AddNumberToObject(root, "duration_s", res->sim_s);
     cJSON_AddNumberToObject(root, "pwm_periods", (double)res->periods);
     cJSON_AddNumberToObject(root, "wall_time_s", res->wall_s);
+    cJSON_AddNumberToObject(root, "time_offset_s", rep->time_offset_s);
 
     cJSON *metrics = cJSON_AddObjectToObject(root, "metrics");
     cJSON *unavailable = cJSON_AddObjectToObject(root, "unavailable");
@@ -57,6 +75,8 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
         }
         cJSON_AddItemToArray(dips, d);
     }
+
+    add_windows(root, rep);
 
     cJSON *isr = cJSON_AddObjectToObject(root, "isr_cost");
     cJSON_AddNumberToObject(isr, "mean_s", res->isr_cost_mean_s);

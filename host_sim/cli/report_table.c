@@ -20,6 +20,10 @@ void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res,
     fprintf(f, "scenario %s: %s control, %.3f s simulated in %.2f s wall (%llu PWM periods)\n",
             s->name, scenario_mode_name(s->reference.mode), res->sim_s, res->wall_s,
             (unsigned long long)res->periods);
+    if (rep->time_offset_s != 0.0) {
+        fprintf(f, "  (times below in profile time = simulated time - %g s)\n",
+                rep->time_offset_s);
+    }
     fprintf(f, "  %-32s %14s  %s\n", "metric", "value", "unit");
     for (size_t i = 0; i < rep->n_items; i++) {
         const report_item_t *it = &rep->items[i];
@@ -30,6 +34,15 @@ void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res,
         snprintf(label, sizeof(label), "max dip after load step %.3g s", rep->dips[i].t_s);
         print_value(f, label, rep->dips[i].max_dip, rep->dips[i].status,
                     s->reference.display_unit);
+    }
+    for (size_t i = 0; i < rep->n_windows; i++) {
+        const report_window_t *w = &rep->windows[i];
+        fprintf(f, "  window %s [%g, %g] s:\n", w->name, w->t0_s, w->t1_s);
+        for (size_t j = 0; j < w->n_items; j++) {
+            char label[64];
+            snprintf(label, sizeof(label), "  %s", w->items[j].label);
+            print_value(f, label, w->items[j].value, w->items[j].status, w->items[j].unit);
+        }
     }
     fprintf(f, "  %-32s %6.2f / %-6.2f  us (host CPU time)\n", "ISR cost mean / max",
             1e6 * res->isr_cost_mean_s, 1e6 * res->isr_cost_max_s);

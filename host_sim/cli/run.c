@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "angle_diff.h"
 #include "trace_csv.h"
 
 #define PROGRESS_AFTER_S 2.0
@@ -55,27 +56,40 @@ static double max_abs3(const double x[3])
     return fmax(fabs(x[0]), fmax(fabs(x[1]), fabs(x[2])));
 }
 
+/* The series arrays, in one place for allocation and release. */
+#define SERIES_N_ARRAYS 9
+
+static void series_arrays(run_series_t *s, double **out[SERIES_N_ARRAYS])
+{
+    double **all[SERIES_N_ARRAYS] = { &s->t_s,    &s->y,   &s->ref, &s->i_peak_A,
+                                      &s->v_peak_V, &s->angle_err_e_rad,
+                                      &s->tau_load_hat_Nm, &s->tau_load_Nm, &s->zero };
+    for (size_t i = 0; i < SERIES_N_ARRAYS; i++) {
+        out[i] = all[i];
+    }
+}
+
 static bool series_alloc(run_series_t *s, size_t n)
 {
+    double **arrays[SERIES_N_ARRAYS];
     *s = (run_series_t){ 0 };
-    s->t_s = malloc(n * sizeof(double));
-    s->y = malloc(n * sizeof(double));
-    s->ref = malloc(n * sizeof(double));
-    s->i_peak_A = malloc(n * sizeof(double));
-    s->v_peak_V = malloc(n * sizeof(double));
-    return s->t_s != NULL && s->y != NULL && s->ref != NULL && s->i_peak_A != NULL &&
-           s->v_peak_V != NULL;
+    series_arrays(s, arrays);
+    bool ok = true;
+    for (size_t i = 0; i < SERIES_N_ARRAYS; i++) {
+        *arrays[i] = calloc(n, sizeof(double));
+        ok = ok && *arrays[i] != NULL;
+    }
+    return ok;
 }
 
 void run_result_free(run_result_t *res)
 {
-    run_series_t *s = &res->series;
-    free(s->t_s);
-    free(s->y);
-    free(s->ref);
-    free(s->i_peak_A);
-    free(s->v_peak_V);
-    *s = (run_series_t){ 0 };
+    double **arrays[SERIES_N_ARRAYS];
+    series_arrays(&res->series, arrays);
+    for (size_t i = 0; i < SERIES_N_ARRAYS; i++) {
+        free(*arrays[i]);
+    }
+    res->series = (run_series_t){ 0 };
 }
 
 /* Period k enters the series: a new sample at a block start, else the
@@ -94,6 +108,10 @@ static void record(run_result_t *res, uint64_t k, const scenario_t *s,
         ser->ref[j] = ref_si * scale;
         ser->i_peak_A[j] = i_peak;
         ser->v_peak_V[j] = v_peak;
+        ser->angle_err_e_rad[j] = angle_diff_rad((double)smp->fw.theta_e_rad,
+                                                 smp->plant.theta_e_rad);
+        ser->tau_load_hat_Nm[j] = (double)smp->fw.tau_L_hat_Nm;
+        ser->tau_load_Nm[j] = smp->plant.tau_load_Nm;
     } else {
         size_t j = ser->n - 1;
         ser->i_peak_A[j] = fmax(ser->i_peak_A[j], i_peak);

@@ -24,6 +24,11 @@ typedef struct {
     double *ref;        /* reference given to the drive */
     double *i_peak_A;   /* max |i_a|, |i_b|, |i_c| (true) over the block */
     double *v_peak_V;   /* max |v_a|, |v_b|, |v_c| (plant, period averages) */
+    double *angle_err_e_rad; /* controller's theta_e - true theta_e, wrapped to
+                                [-pi, pi) */
+    double *tau_load_hat_Nm; /* firmware load-torque estimate (0 without one) */
+    double *tau_load_Nm;     /* true load torque */
+    double *zero;            /* zeros: the reference of the error series */
     size_t n;
 } run_series_t;
 

@@ -16,20 +16,28 @@ bool scenario_from_json(const cJSON *root_json, scenario_t *out, scn_error_t *er
     memset(out, 0, sizeof(*out));
     plant_config_default(&out->plant);
     mc_config_init_default(&out->controller);
-    return jr_root(&root, root_json, err) &&
-           jr_uint_opt(&root, "format_version", 1, 1, 1, &version) &&
-           jr_string_opt(&root, "name", "", out->name, sizeof(out->name)) &&
-           jr_string_opt(&root, "description", "", description, sizeof(description)) &&
-           jr_number(&root, "duration_s", JR_POSITIVE(SCENARIO_MAX_DURATION_S),
-                     &out->duration_s) &&
-           scenario_read_plant(&root, &out->plant) &&
-           scenario_read_controller(&root, &out->plant, &out->controller) &&
-           scenario_read_reference(&root, &out->reference) &&
-           scenario_read_injections(&root, out->injections, &out->n_injections) &&
-           scenario_read_metrics(&root, out->duration_s, &out->metrics) &&
-           jr_object_opt(&root, "output", &output) &&
-           jr_u32_opt(&output, "trace_decimation", 1, 1000000, 20, &out->trace_decimation) &&
-           jr_finish(&output) && jr_finish(&root);
+    const bool ok = jr_root(&root, root_json, err) &&
+                    jr_uint_opt(&root, "format_version", 1, 1, 1, &version) &&
+                    jr_string_opt(&root, "name", "", out->name, sizeof(out->name)) &&
+                    jr_string_opt(&root, "description", "", description, sizeof(description)) &&
+                    jr_number(&root, "duration_s", JR_POSITIVE(SCENARIO_MAX_DURATION_S),
+                              &out->duration_s) &&
+                    jr_number_opt(&root, "time_offset_s",
+                                  JR_CLOSED(0.0, SCENARIO_MAX_DURATION_S), 0.0,
+                                  &out->time_offset_s) &&
+                    scenario_read_plant(&root, &out->plant) &&
+                    scenario_read_controller(&root, &out->plant, &out->controller) &&
+                    scenario_read_reference(&root, &out->reference) &&
+                    scenario_read_injections(&root, out->injections, &out->n_injections) &&
+                    scenario_read_metrics(&root, out->duration_s, &out->metrics) &&
+                    jr_object_opt(&root, "output", &output) &&
+                    jr_u32_opt(&output, "trace_decimation", 1, 1000000, 20,
+                               &out->trace_decimation) &&
+                    jr_finish(&output) && jr_finish(&root);
+    if (ok) {
+        scenario_apply_time_offset(out);
+    }
+    return ok;
 }
 
 /* "dir/p001_foc.json" -> "p001_foc" when the scenario has no name. */

@@ -1,5 +1,6 @@
 /* Scenario section "metrics": the windows in which the CLI evaluates the
  * paper metrics (sim/metrics.h). */
+#include <ctype.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -33,6 +34,67 @@ static bool read_window(jr_object_t *o, const char *key, bool *present, double *
     }
     *t0_s = t0;
     *t1_s = t1;
+    return true;
+}
+
+/* [A-Za-z0-9_]+: usable as a JSON key and a file-name part. */
+static bool valid_window_name(const char *name)
+{
+    if (name[0] == '\0') {
+        return false;
+    }
+    for (const char *c = name; *c != '\0'; c++) {
+        if (!isalnum((unsigned char)*c) && *c != '_') {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* windows[i] = {"name": ..., "t_s": [t0, t1]}, names unique. */
+static bool read_named_window(jr_array_t *arr, size_t i, scenario_metrics_t *m)
+{
+    jr_object_t w;
+    bool present;
+    scenario_window_t *win = &m->windows[i];
+    if (!jr_array_object(arr, i, &w) ||
+        !jr_string_opt(&w, "name", "", win->name, sizeof(win->name))) {
+        return false;
+    }
+    if (!valid_window_name(win->name)) {
+        jr_fail(&w, "name", win->name[0] == '\0' ? SCN_ERR_MISSING : SCN_ERR_INVALID,
+                "a name of letters, digits and _ (1-31 chars)",
+                win->name[0] == '\0' ? "none" : win->name);
+        return false;
+    }
+    for (size_t j = 0; j < i; j++) {
+        if (strcmp(m->windows[j].name, win->name) == 0) {
+            jr_fail(&w, "name", SCN_ERR_INVALID, "a name no other window has", win->name);
+            return false;
+        }
+    }
+    if (!read_window(&w, "t_s", &present, &win->t0_s, &win->t1_s) || !jr_finish(&w)) {
+        return false;
+    }
+    if (!present) {
+        jr_fail(&w, "t_s", SCN_ERR_MISSING, "[t0, t1] with t0 < t1", "nothing");
+        return false;
+    }
+    return true;
+}
+
+static bool read_named_windows(jr_object_t *o, scenario_metrics_t *m)
+{
+    jr_array_t arr;
+    if (!jr_array_opt(o, "windows", 1, SCENARIO_MAX_WINDOWS, &arr)) {
+        return false;
+    }
+    for (size_t i = 0; i < arr.size; i++) {
+        if (!read_named_window(&arr, i, m)) {
+            return false;
+        }
+    }
+    m->n_windows = arr.size;
     return true;
 }
 
@@ -89,5 +151,5 @@ bool scenario_read_metrics(jr_object_t *root, double duration_s, scenario_metric
     }
     m->n_load_steps = steps.size;
     return jr_number_opt(&o, "dip_window_s", JR_POSITIVE(1e3), 0.5, &m->dip_window_s) &&
-           jr_finish(&o);
+           read_named_windows(&o, m) && jr_finish(&o);
 }

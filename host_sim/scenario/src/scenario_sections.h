@@ -26,6 +26,10 @@ bool scenario_read_reference(jr_object_t *root, scenario_reference_t *ref);
 /* metrics windows; duration_s gives the defaults (tracking window, step end). */
 bool scenario_read_metrics(jr_object_t *root, double duration_s, scenario_metrics_t *metrics);
 
+/* time_offset_s: shift the reference, the load torque and the metric
+ * windows from profile time to simulated time (after all sections). */
+void scenario_apply_time_offset(scenario_t *s);
+
 /* fault_injections -> engine injections. */
 bool scenario_read_injections(jr_object_t *root, sim_injection_t *out, size_t *n_out);
 

@@ -349,6 +349,138 @@ static void rejected_controller_names_the_key(void **state)
     assert_string_equal(err.path, "controller");
 }
 
+/* The sensorless keys (paper 001) map onto mc_config_t, with the ranges of
+ * mc_config_validate(). */
+static void sensorless_controller_keys(void **state)
+{
+    (void)state;
+    const char *keys[] = {
+        "controller.type=idapbc",
+        "controller.angle_source=flux_observer",
+        "controller.flux_obs_gamma=4000",
+        "controller.speed_obs_a1=25",
+        "controller.speed_obs_a2=7",
+        "controller.sensorless_pll_bandwidth_rad_s=120",
+        "controller.est_omega_max_rad_s=70",
+        "controller.est_tau_max_Nm=12",
+        "controller.est_flux_ratio_min=0.6",
+        "controller.est_flux_ratio_max=1.4",
+        "controller.delay_comp_enabled=false",
+        "controller.delay_periods=1.0",
+        "controller.idapbc_r_ohm=0.5",
+        "controller.align_current_A=3",
+        "controller.align_ramp_s=0.2",
+        "controller.align_time_s=0.6",
+        "controller.align_angle_e_rad=1.0",
+    };
+    assert_true(load(valid_doc, keys, sizeof(keys) / sizeof(keys[0])));
+    const mc_config_t *c = &scn.controller;
+    assert_int_equal(c->controller, MC_CONTROLLER_IDAPBC);
+    assert_int_equal(c->angle_source, MC_ANGLE_SOURCE_FLUX_OBSERVER);
+    assert_true(c->flux_obs_gamma == 4000.0f && c->speed_obs_a1 == 25.0f &&
+                c->speed_obs_a2 == 7.0f);
+    assert_true(c->sensorless_pll_bandwidth_rad_s == 120.0f);
+    assert_true(c->est_omega_max_rad_s == 70.0f && c->est_tau_max_Nm == 12.0f);
+    assert_true(c->est_flux_ratio_min == 0.6f && c->est_flux_ratio_max == 1.4f);
+    assert_false(c->delay_comp_enabled);
+    assert_true(c->delay_periods == 1.0f && c->idapbc_r_ohm == 0.5f);
+    assert_true(c->align_current_A == 3.0f && c->align_ramp_s == 0.2f &&
+                c->align_time_s == 0.6f && c->align_angle_e_rad == 1.0f);
+
+    /* ranges of the keys themselves */
+    const char *ratio[] = { "controller.est_flux_ratio_min=1.2" };
+    assert_false(load(valid_doc, ratio, 1));
+    assert_int_equal(err.code, SCN_ERR_RANGE);
+    assert_string_equal(err.path, "controller.est_flux_ratio_min");
+    const char *delay[] = { "controller.delay_periods=2" };
+    assert_false(load(valid_doc, delay, 1));
+    assert_int_equal(err.code, SCN_ERR_RANGE);
+    assert_string_equal(err.path, "controller.delay_periods");
+    const char *source[] = { "controller.angle_source=hall" };
+    assert_false(load(valid_doc, source, 1));
+    assert_int_equal(err.code, SCN_ERR_RANGE);
+    /* rules across keys, from mc_config_validate(): the alignment current
+     * below i_max (10 A by default), the ramp within the alignment time,
+     * IDA-PBC only with the flux observer */
+    const char *align[] = { "controller.angle_source=flux_observer",
+                            "controller.align_current_A=12" };
+    assert_false(load(valid_doc, align, 2));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
+    assert_string_equal(err.path, "controller.align_current_A");
+    const char *ramp[] = { "controller.align_ramp_s=0.8" };
+    assert_false(load(valid_doc, ramp, 1));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
+    assert_string_equal(err.path, "controller.align_ramp_s");
+    const char *idapbc_encoder[] = { "controller.type=idapbc" };
+    assert_false(load(valid_doc, idapbc_encoder, 1));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
+    assert_string_equal(err.path, "controller.type");
+}
+
+/* time_offset_s moves the reference, the load and the metric windows (not
+ * the fault injections or duration_s) from profile to simulated time. */
+static void time_offset_shifts_profiles_and_windows(void **state)
+{
+    (void)state;
+    const char *shift[] = {
+        "time_offset_s=0.5",
+        "fault_injections=[{\"kind\": \"fault_input\", \"t_start_s\": 1.0}]",
+        "metrics.windows=[{\"name\": \"w1\", \"t_s\": [1.0, 1.5]}]",
+    };
+    assert_true(load(valid_doc, shift, sizeof(shift) / sizeof(shift[0])));
+    assert_true(scn.time_offset_s == 0.5 && scn.duration_s == 2.0);
+    /* reference 0 -> 60 rpm over profile time [0, 1]: 30 rpm at t = 1.0 */
+    assert_true(fabs(sim_profile_eval(&scn.reference.value, 1.0) - PI) < 1e-12);
+    assert_true(sim_profile_eval(&scn.reference.value, 0.4) == 0.0);
+    /* load: step to 1.5 at profile 1 s (t = 1.5), sine from profile 1.5 s */
+    const sim_profile_t *tl = &scn.plant.load_torque_Nm;
+    assert_true(sim_profile_eval(tl, 1.49) == 0.0);
+    assert_true(fabs(sim_profile_eval(tl, 1.7) - 1.5) < 1e-12);
+    assert_true(fabs(sim_profile_eval(tl, 2.01) - 2.5) < 1e-9);
+    const scenario_metrics_t *m = &scn.metrics;
+    assert_true(m->steady_t0_s == 2.0 && m->steady_t1_s == 2.5);
+    assert_true(m->tracking_t0_s == 0.5 && m->tracking_t1_s == 2.5);
+    assert_true(m->load_step_t_s[0] == 1.5);
+    assert_int_equal(m->n_windows, 1);
+    assert_string_equal(m->windows[0].name, "w1");
+    assert_true(m->windows[0].t0_s == 1.5 && m->windows[0].t1_s == 2.0);
+    assert_true(scn.injections[0].t_start_s == 1.0);
+
+    const char *negative[] = { "time_offset_s=-1" };
+    assert_false(load(valid_doc, negative, 1));
+    assert_int_equal(err.code, SCN_ERR_RANGE);
+    assert_string_equal(err.path, "time_offset_s");
+}
+
+static void named_window_errors(void **state)
+{
+    (void)state;
+    const char *dup[] = { "metrics.windows=[{\"name\": \"a\", \"t_s\": [0, 1]},"
+                          " {\"name\": \"a\", \"t_s\": [1, 2]}]" };
+    assert_false(load(valid_doc, dup, 1));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
+    assert_string_equal(err.path, "metrics.windows[1].name");
+    const char *bad_name[] = { "metrics.windows=[{\"name\": \"a b\", \"t_s\": [0, 1]}]" };
+    assert_false(load(valid_doc, bad_name, 1));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
+    assert_string_equal(err.path, "metrics.windows[0].name");
+    const char *no_name[] = { "metrics.windows=[{\"t_s\": [0, 1]}]" };
+    assert_false(load(valid_doc, no_name, 1));
+    assert_int_equal(err.code, SCN_ERR_MISSING);
+    assert_string_equal(err.path, "metrics.windows[0].name");
+    const char *no_times[] = { "metrics.windows=[{\"name\": \"a\"}]" };
+    assert_false(load(valid_doc, no_times, 1));
+    assert_int_equal(err.code, SCN_ERR_MISSING);
+    assert_string_equal(err.path, "metrics.windows[0].t_s");
+    const char *reversed[] = { "metrics.windows=[{\"name\": \"a\", \"t_s\": [2, 1]}]" };
+    assert_false(load(valid_doc, reversed, 1));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
+    assert_string_equal(err.path, "metrics.windows[0].t_s");
+    const char *extra[] = { "metrics.windows=[{\"name\": \"a\", \"t_s\": [0, 1], \"x\": 1}]" };
+    assert_false(load(valid_doc, extra, 1));
+    assert_int_equal(err.code, SCN_ERR_UNKNOWN_KEY);
+}
+
 static void bad_override_syntax(void **state)
 {
     (void)state;
@@ -403,6 +535,9 @@ int main(void)
         cmocka_unit_test(fault_injections_and_step_window),
         cmocka_unit_test(reference_modes_and_units),
         cmocka_unit_test(rejected_controller_names_the_key),
+        cmocka_unit_test(sensorless_controller_keys),
+        cmocka_unit_test(time_offset_shifts_profiles_and_windows),
+        cmocka_unit_test(named_window_errors),
         cmocka_unit_test(bad_override_syntax),
         cmocka_unit_test(unreadable_file),
         cmocka_unit_test(error_line_names_file_path_expected_found),

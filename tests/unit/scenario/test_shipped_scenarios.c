@@ -35,11 +35,10 @@ static void near(double actual, double expected)
     assert_true(fabs(actual - expected) <= 1e-9 * fmax(1.0, fabs(expected)));
 }
 
-/* Paper 001 Section 5: motor and the benchmark speed/load profiles. */
-static void paper001_benchmark(void **state)
+/* Paper 001 Section 5: motor and the benchmark speed/load profiles, in
+ * profile time tb = t - t0 (t0: calibration and alignment before tb = 0). */
+static void check_paper001_benchmark(double t0)
 {
-    (void)state;
-    load("paper001_benchmark_foc.json");
     const plant_motor_params_t *m = &scn.plant.motor;
     near(m->R_ohm, 0.225);
     near(m->Ld_H, 3.8e-3);
@@ -48,26 +47,108 @@ static void paper001_benchmark(void **state)
     assert_int_equal(m->pole_pairs, 3);
     near(m->J_kgm2, 0.012);
     near(scn.plant.inverter.f_pwm_Hz, 20e3);
-    near(scn.duration_s, 10.0);
+    near(scn.time_offset_s, t0);
+    near(scn.duration_s, 10.0 + t0);
     assert_int_equal(scn.reference.mode, MC_MODE_SPEED);
     /* 50 rpm/s to 50 rpm (1 s), hold to 3 s, 35 rpm/s to 120 rpm (5 s),
      * hold 2 s, 60 rpm/s down to 0 (9 s), hold to 10 s */
     const sim_profile_t *w = &scn.reference.value;
-    near(sim_profile_eval(w, 0.5), 25.0 * RPM);
-    near(sim_profile_eval(w, 2.0), 50.0 * RPM);
-    near(sim_profile_eval(w, 4.0), 85.0 * RPM);
-    near(sim_profile_eval(w, 6.0), 120.0 * RPM);
-    near(sim_profile_eval(w, 8.0), 60.0 * RPM);
-    near(sim_profile_eval(w, 9.5), 0.0);
-    /* 0 N m for t < 1 s and 2.5 <= t < 5 s, 1 N m otherwise */
+    near(sim_profile_eval(w, t0 - 0.1), 0.0);
+    near(sim_profile_eval(w, t0 + 0.5), 25.0 * RPM);
+    near(sim_profile_eval(w, t0 + 2.0), 50.0 * RPM);
+    near(sim_profile_eval(w, t0 + 4.0), 85.0 * RPM);
+    near(sim_profile_eval(w, t0 + 6.0), 120.0 * RPM);
+    near(sim_profile_eval(w, t0 + 8.0), 60.0 * RPM);
+    near(sim_profile_eval(w, t0 + 9.5), 0.0);
+    /* 0 N m for tb < 1 s and 2.5 <= tb < 5 s, 1 N m otherwise */
     const sim_profile_t *tl = &scn.plant.load_torque_Nm;
-    near(sim_profile_eval(tl, 0.5), 0.0);
-    near(sim_profile_eval(tl, 1.0), 1.0);
-    near(sim_profile_eval(tl, 2.49), 1.0);
-    near(sim_profile_eval(tl, 2.5), 0.0);
-    near(sim_profile_eval(tl, 4.99), 0.0);
-    near(sim_profile_eval(tl, 5.0), 1.0);
-    near(sim_profile_eval(tl, 9.9), 1.0);
+    near(sim_profile_eval(tl, t0 + 0.5), 0.0);
+    near(sim_profile_eval(tl, t0 + 1.0), 1.0);
+    near(sim_profile_eval(tl, t0 + 2.49), 1.0);
+    near(sim_profile_eval(tl, t0 + 2.5), 0.0);
+    near(sim_profile_eval(tl, t0 + 4.99), 0.0);
+    near(sim_profile_eval(tl, t0 + 5.0), 1.0);
+    near(sim_profile_eval(tl, t0 + 9.9), 1.0);
+    assert_int_equal(scn.metrics.n_load_steps, 3);
+    near(scn.metrics.load_step_t_s[0], t0 + 1.0);
+    near(scn.metrics.load_step_t_s[2], t0 + 5.0);
+}
+
+static void paper001_benchmark(void **state)
+{
+    (void)state;
+    load("paper001_benchmark_foc.json");
+    check_paper001_benchmark(0.0);
+    assert_int_equal(scn.controller.angle_source, MC_ANGLE_SOURCE_ENCODER);
+}
+
+/* The window named name spans [tb0, tb1] of profile time. */
+static void expect_window(const char *name, double tb0, double tb1)
+{
+    for (size_t i = 0; i < scn.metrics.n_windows; i++) {
+        if (strcmp(scn.metrics.windows[i].name, name) == 0) {
+            near(scn.metrics.windows[i].t0_s - scn.time_offset_s, tb0);
+            near(scn.metrics.windows[i].t1_s - scn.time_offset_s, tb1);
+            return;
+        }
+    }
+    fail_msg("no metrics window %s", name);
+}
+
+/* The sensorless benchmark (paper 001 Section 5.1, shifted by the 0.6 s of
+ * calibration and alignment) with the windows of the issue's acceptance:
+ * angle error at 50 and 120 rpm, speed and load estimate at 120 rpm, the
+ * final zero-speed hold; the plant integrator of the benchmark tests. */
+static void check_paper001_sensorless(mc_controller_t controller)
+{
+    check_paper001_benchmark(0.6);
+    assert_int_equal(scn.controller.angle_source, MC_ANGLE_SOURCE_FLUX_OBSERVER);
+    assert_int_equal(scn.controller.controller, controller);
+    assert_int_equal(scn.plant.substeps_per_period, PLANT_SUBSTEPS_FAST);
+    near(sim_profile_eval(&scn.plant.inverter.v_dc_V, 1.0), 48.0);
+    expect_window("at_50rpm", 1.5, 3.0);
+    expect_window("at_120rpm", 5.5, 7.0);
+    expect_window("zero_speed_hold", 9.5, 10.0);
+}
+
+static void paper001_sensorless_idapbc(void **state)
+{
+    (void)state;
+    load("paper001_benchmark_idapbc.json");
+    check_paper001_sensorless(MC_CONTROLLER_IDAPBC);
+}
+
+static void paper001_sensorless_nam(void **state)
+{
+    (void)state;
+    load("paper001_benchmark_nam.json");
+    check_paper001_sensorless(MC_CONTROLLER_FOC_PI);
+}
+
+/* The robustness cases of paper 001 Section 5.1 as documented in README.md:
+ * --set overrides of the plant mismatch; the controller stays nominal. */
+static void paper001_robustness_overrides(void **state)
+{
+    (void)state;
+    const char *files[] = { "paper001_benchmark_idapbc.json", "paper001_benchmark_nam.json" };
+    const char *cases[] = { "disturbances.mismatch.R=1.5", "disturbances.mismatch.L=1.5",
+                            "disturbances.mismatch.psi=1.15" };
+    for (size_t f = 0; f < 2; f++) {
+        for (size_t c = 0; c < 3; c++) {
+            char path[1024];
+            scn_error_t err;
+            snprintf(path, sizeof(path), "%s/%s", SCENARIOS_DIR, files[f]);
+            assert_true(scenario_load(path, &cases[c], 1, &scn, &err));
+            const double expected[3] = { c == 0 ? 1.5 : 1.0, c == 1 ? 1.5 : 1.0,
+                                         c == 2 ? 1.15 : 1.0 };
+            near(scn.plant.mismatch.R, expected[0]);
+            near(scn.plant.mismatch.L, expected[1]);
+            near(scn.plant.mismatch.psi, expected[2]);
+            near(scn.controller.R_ohm, 0.225f);
+            near(scn.controller.Ld_H, 3.8e-3f);
+            near(scn.controller.psi_Wb, 0.17f);
+        }
+    }
 }
 
 /* Paper 002 Section IV: the experimental motor, Case I dead time. */
@@ -148,6 +229,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(paper001_benchmark),
+        cmocka_unit_test(paper001_sensorless_idapbc),
+        cmocka_unit_test(paper001_sensorless_nam),
+        cmocka_unit_test(paper001_robustness_overrides),
         cmocka_unit_test(paper002_case1),
         cmocka_unit_test(paper000_position),
         cmocka_unit_test(readme_full_example_is_valid),

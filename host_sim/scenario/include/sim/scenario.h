@@ -26,6 +26,8 @@
 #define SCENARIO_NAME_MAX 64
 #define SCENARIO_MAX_DURATION_S 36000.0
 #define SCENARIO_MAX_LOAD_STEPS 8
+#define SCENARIO_MAX_WINDOWS 8
+#define SCENARIO_WINDOW_NAME_MAX 32
 
 typedef struct {
     mc_mode_t mode;
@@ -35,7 +37,14 @@ typedef struct {
     double display_per_si;      /* display value = SI value * display_per_si */
 } scenario_reference_t;
 
+/* A named window of the windowed metrics (metrics.windows). */
+typedef struct {
+    char name[SCENARIO_WINDOW_NAME_MAX];   /* [A-Za-z0-9_]+, unique */
+    double t0_s, t1_s;
+} scenario_window_t;
+
 /* Metric windows; values (step levels) in the reference's display unit.
+ * All times here are SIMULATED time (time_offset_s already added).
  * Times are not bounded by duration_s (a shortened run, --set duration_s=..,
  * keeps its windows): samples outside the run simply do not exist, and a
  * metric whose window holds none is reported as unavailable. */
@@ -52,11 +61,17 @@ typedef struct {
     size_t n_load_steps;
     double load_step_t_s[SCENARIO_MAX_LOAD_STEPS];
     double dip_window_s;
+    size_t n_windows;
+    scenario_window_t windows[SCENARIO_MAX_WINDOWS];
 } scenario_metrics_t;
 
 typedef struct {
     char name[SCENARIO_NAME_MAX];
-    double duration_s;
+    double duration_s;          /* simulated time, offset included */
+    double time_offset_s;       /* simulated t = profile time + offset: the
+                                   reference, the load torque and the metric
+                                   windows are shifted by it (already applied
+                                   to the structs below) */
     plant_config_t plant;
     mc_config_t controller;
     scenario_reference_t reference;
