@@ -74,12 +74,21 @@ void mc_config_init_default(mc_config_t *cfg)
         .delay_comp_enabled = true,
         .delay_periods = MC_DELAY_PERIODS_DEFAULT,
         .idapbc_r_ohm = 0.0f,
-        /* 2 A (1.53 N m of alignment torque per electrical rad), ramped
-         * over 0.1 s, 0.5 s in all. */
+        /* 2 A (1.53 N m of alignment torque per electrical rad: omega_n
+         * = sqrt(n_p kt I / J) = 19.6 rad/s), ramped over 0.1 s;
+         * critically damped (k_d = 0.204 A per electrical rad/s), the
+         * damping current limited to 2 A (|i| <= 2.83 A). Settled: below
+         * 0.2 electrical rad/s for 50 ms (|sin(delta)| <~ 0.021, see
+         * mc/align.h). Timeout 2 s: each phase needs about 0.4 s from
+         * 90 deg away. */
         .align_current_A = 2.0f,
         .align_ramp_s = 0.1f,
-        .align_time_s = 0.5f,
+        .align_time_s = 2.0f,
         .align_angle_e_rad = 0.0f,
+        .align_damping_ratio = 1.0f,
+        .align_i_q_max_A = 2.0f,
+        .align_settle_speed_e_rad_s = 0.002f,
+        .align_settle_time_s = 0.05f,
     };
 }
 
@@ -114,7 +123,11 @@ static mc_status_t validate_sensorless(const mc_config_t *c)
         c->align_ramp_s < 0.0f || c->align_ramp_s > c->align_time_s ||
         !(c->align_time_s > 0.0f) ||
         c->align_time_s > MC_CFG_ALIGN_TIME_MAX_S ||
-        fabsf(c->align_angle_e_rad) > MC_TWO_PI_F) {
+        fabsf(c->align_angle_e_rad) > MC_TWO_PI_F ||
+        !(c->align_i_q_max_A > 0.0f) ||
+        c->align_current_A * c->align_current_A +
+                c->align_i_q_max_A * c->align_i_q_max_A >
+            c->i_max_A * c->i_max_A) {
         return MC_ERR_PARAM;
     }
     mc_app_t scratch = { .Ts_s = 1.0f / c->f_pwm_hz };
@@ -133,7 +146,8 @@ mc_status_t mc_config_validate(const mc_config_t *c)
         c->est_omega_max_rad_s, c->est_tau_max_Nm, c->est_flux_ratio_min,
         c->est_flux_ratio_max, c->delay_periods, c->idapbc_r_ohm,
         c->align_current_A, c->align_ramp_s, c->align_time_s,
-        c->align_angle_e_rad,
+        c->align_angle_e_rad, c->align_damping_ratio, c->align_i_q_max_A,
+        c->align_settle_speed_e_rad_s, c->align_settle_time_s,
     };
     if (!mc_all_finite_f32(f, (uint32_t)(sizeof f / sizeof f[0]))) {
         return MC_ERR_NONFINITE;

@@ -80,7 +80,7 @@ static void start_run(mc_app_t *app)
 static void start_align(mc_app_t *app)
 {
     mc_current_loop_reset_f32(&app->current);
-    app->align_count = 0u;
+    mc_align_reset_f32(&app->align);
     app->theta_m_hat_rad =
         app->cfg.align_angle_e_rad / (float)app->cfg.pole_pairs;
     app->state = MC_STATE_ALIGN;
@@ -272,25 +272,23 @@ static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
     return faults;
 }
 
-/* ALIGN: d current ramped to align_current_A at the alignment angle (the
- * estimate() reports it outside RUN) through the current loop; at the end
- * the observers start there and RUN begins. */
+/* ALIGN (mc/align.h): the damped two-phase alignment through the current
+ * loop, in the frame of the ALIGN vector (the estimate() reports its angle
+ * outside RUN); once settled the observers start at the alignment angle
+ * and RUN begins; a settle timeout is MC_FAULT_ESTIMATE. */
 static uint32_t align(mc_app_t *app, const mc_sincos_t *sc,
                       mc_telemetry_t *t)
 {
-    const uint32_t n = ++app->align_count;
-    float ramp = 1.0f;
-    if (n < app->align_ramp_n) {
-        ramp = (float)n / (float)app->align_ramp_n; /* align_ramp_n > n */
+    mc_align_state_t st = MC_ALIGN_BUSY;
+    uint32_t faults = mc_app_sensorless_align(app, t, &st);
+    if (faults == MC_FAULT_NONE) {
+        faults = control_foc_pi(app, t);
     }
-    t->i_d_ref_A = ramp * app->cfg.align_current_A;
-    t->i_q_ref_A = 0.0f;
-    uint32_t faults = control_foc_pi(app, t);
     if (faults == MC_FAULT_NONE) {
         faults = modulate(app, sc, t);
     }
     faults |= check_outputs(t);
-    if (faults == MC_FAULT_NONE && n >= app->align_total_n) {
+    if (faults == MC_FAULT_NONE && st == MC_ALIGN_DONE) {
         faults = mc_app_sensorless_start(app, t->i_abc_A);
         if (faults == MC_FAULT_NONE) {
             start_run(app);

@@ -65,11 +65,20 @@ mc_status_t mc_app_sensorless_init(mc_app_t *app, const mc_config_t *c)
     if (st != MC_OK) {
         return st;
     }
-    /* Whole periods, rounded; at least one ISR of ALIGN. */
-    app->align_total_n = (uint32_t)lroundf(c->align_time_s * c->f_pwm_hz);
-    app->align_ramp_n = (uint32_t)lroundf(c->align_ramp_s * c->f_pwm_hz);
-    if (app->align_total_n < 1u) {
-        app->align_total_n = 1u;
+    const mc_align_params_t ap = {
+        .i_align_A = c->align_current_A, .ramp_s = c->align_ramp_s,
+        .timeout_s = c->align_time_s, .angle_e_rad = c->align_angle_e_rad,
+        .damping_ratio = c->align_damping_ratio,
+        .i_q_max_A = c->align_i_q_max_A,
+        .settle_speed_e_rad_s = c->align_settle_speed_e_rad_s,
+        .settle_time_s = c->align_settle_time_s, .R_ohm = c->R_ohm,
+        .L_H = c->Lq_H, .psi_Wb = c->psi_Wb, .J_kgm2 = c->J_kgm2,
+        .kt_Nm_per_A = app->kt_Nm_per_A, .pole_pairs = c->pole_pairs,
+        .Ts_s = Ts,
+    };
+    st = mc_align_init_f32(&app->align, &ap);
+    if (st != MC_OK) {
+        return st;
     }
     return MC_OK;
 }
@@ -112,8 +121,9 @@ uint32_t mc_app_sensorless_estimate(mc_app_t *app, mc_telemetry_t *t)
 {
     t->flux_ratio_sq = mc_flux_obs_rho_sq_f32(&app->flux_obs);
     if (app->state != MC_STATE_RUN) {
-        /* Observers held: the controller uses the alignment angle. */
-        t->theta_e_rad = app->cfg.align_angle_e_rad;
+        /* Observers held: the controller uses the angle of the ALIGN
+         * current vector (mc/align.h). */
+        t->theta_e_rad = mc_align_theta_e_f32(&app->align);
         t->theta_m_rad = app->theta_m_hat_rad;
         t->omega_m_rad_s = 0.0f;
         t->tau_L_hat_Nm = 0.0f;
@@ -168,6 +178,26 @@ uint32_t mc_app_sensorless_estimate(mc_app_t *app, mc_telemetry_t *t)
     app->theta_e_hat_prev_rad = t->theta_e_rad;
     t->theta_m_rad = app->theta_m_hat_rad;
     return faults;
+}
+
+uint32_t mc_app_sensorless_align(mc_app_t *app, mc_telemetry_t *t,
+                                  mc_align_state_t *state)
+{
+    float i_al;
+    float i_be;
+    mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &i_al, &i_be);
+    float v_al;
+    float v_be;
+    mc_applied_voltage_last_f32(&app->v_applied, &v_al, &v_be);
+    mc_align_out_t o;
+    if (mc_align_step_f32(&app->align, i_al, i_be, v_al, v_be, &o) !=
+        MC_OK) {
+        return MC_FAULT_NONFINITE;
+    }
+    t->i_d_ref_A = o.i_d_ref_A;
+    t->i_q_ref_A = o.i_q_ref_A;
+    *state = o.state;
+    return (o.state == MC_ALIGN_TIMEOUT) ? MC_FAULT_ESTIMATE : MC_FAULT_NONE;
 }
 
 uint32_t mc_app_idapbc_voltages(mc_app_t *app, mc_telemetry_t *t)

@@ -88,16 +88,46 @@ static double angle_err(double est, double truth)
     return remainder(est - truth, 2.0 * PI_D);
 }
 
+/* Start metrics: ALIGN time, peak current, the true state at the first
+ * RUN sample. */
+static void record_start(bench_result_t *r, const sim_trace_sample_t *s,
+                         const mc_config_t *fc, double *t_align_start)
+{
+    if (s->fw.state == MC_STATE_ALIGN) {
+        if (*t_align_start < 0.0) {
+            *t_align_start = s->t_s;
+        }
+        for (unsigned k = 0u; k < 3u; ++k) {
+            r->peak_current_align_A = fmax(r->peak_current_align_A,
+                                           fabs(s->plant.i_abc_A[k]));
+        }
+    } else if (s->fw.state == MC_STATE_RUN && r->t_run_s < 0.0) {
+        r->t_run_s = s->t_s;
+        r->t_align_s = s->t_s - *t_align_start;
+        r->align_angle_err_rad = angle_err(s->plant.theta_e_rad,
+                                           (double)fc->align_angle_e_rad);
+        r->align_omega_m_rad_s = s->plant.omega_m_rad_s;
+    }
+}
+
 bench_result_t bench_run(const plant_config_t *pc, const mc_config_t *fc,
                          const char *label)
 {
+    return bench_run_to(pc, fc, label, BENCH_LENGTH_S);
+}
+
+bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc,
+                            const char *label, double tb_end_s)
+{
     sim_engine_t *e = fixture_engine(pc, fc);
     mc_command_t cmd = { .enable = true, .mode = MC_MODE_SPEED };
-    bench_result_t r = { .t_first_fault_s = -1.0 };
+    bench_result_t r = { .t_first_fault_s = -1.0, .t_run_s = -1.0,
+                         .t_align_s = -1.0 };
+    double t_align_start = -1.0;
     rms_t sp120 = { 0 }, sp50 = { 0 }, th50 = { 0 }, th120 = { 0 };
     rms_t tau120 = { 0 };
     bool reached_run = false;
-    const double t_end = BENCH_T0_S + BENCH_LENGTH_S;
+    const double t_end = BENCH_T0_S + tb_end_s;
     while (sim_engine_time_s(e) < t_end - 0.5 * sim_engine_period_s(e)) {
         const double tb_cmd = sim_engine_time_s(e) - BENCH_T0_S;
         cmd.omega_m_ref_rad_s =
@@ -112,6 +142,7 @@ bench_result_t bench_run(const plant_config_t *pc, const mc_config_t *fc,
         if (s->fw.faults_latched != 0u && r.t_first_fault_s < 0.0) {
             r.t_first_fault_s = tb;
         }
+        record_start(&r, s, fc, &t_align_start);
         reached_run = reached_run || s->fw.state == MC_STATE_RUN;
         if (tb < 0.0) {
             continue;
@@ -163,6 +194,10 @@ bench_result_t bench_run(const plant_config_t *pc, const mc_config_t *fc,
     r.rms_angle_err_120_rad = rms_get(&th120);
     r.rms_tau_err_120_Nm = rms_get(&tau120);
     free(e);
+    printf("[%s] ALIGN %.4f s, then true angle err %.3g rad, w %.3g rad/s, "
+           "peak current in ALIGN %.4g A\n", label, r.t_align_s,
+           r.align_angle_err_rad, r.align_omega_m_rad_s,
+           r.peak_current_align_A);
     printf("[%s] speed RMS err: 50 rpm %.4g rpm, 120 rpm %.4g rpm; max "
            "|err| moving %.4g rpm\n", label, r.rms_speed_err_50_rpm,
            r.rms_speed_err_120_rpm, r.max_speed_err_moving_rpm);

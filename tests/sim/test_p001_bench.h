@@ -5,8 +5,10 @@
  * measurement the sensorless controller uses.
  *
  * Benchmark time tb = t - BENCH_T0_S: the drive calibrates its current
- * offsets (25.6 ms) and aligns the rotor (0.5 s) before tb = 0 and holds a
- * zero speed reference in RUN until then. Speed reference: 0 -> 50 rpm at
+ * offsets (25.6 ms) and aligns the rotor (mc/align.h: two damped phases
+ * that end once the rotor has settled, about 1.3 s from the aligned
+ * position, at most 1.6 s from any angle on this bench) before tb = 0 and
+ * holds a zero speed reference in RUN until then. Speed reference: 0 -> 50 rpm at
  * 50 rpm/s (tb = 1 s), hold to 3 s, 35 rpm/s to 120 rpm (5 s), hold to
  * 7 s, 60 rpm/s down to 0 (9 s), hold to 10 s. Load: 0 N m for tb < 1 s
  * and 2.5 <= tb < 5 s, 1 N m otherwise.
@@ -22,7 +24,7 @@
 
 #include "sim_fixture.h"
 
-#define BENCH_T0_S 0.6
+#define BENCH_T0_S 2.0
 #define BENCH_LENGTH_S 10.0
 #define BENCH_RPM_PER_RAD_S (60.0 / (2.0 * 3.14159265358979323846))
 
@@ -41,6 +43,12 @@ typedef struct {
     double max_abs_speed_end_rpm;
     double max_angle_err_end_rad;
     double max_tau_err_end_Nm;
+    /* the start (ALIGN), true plant state at the first RUN sample */
+    double t_run_s;                 /* sim time of the first RUN sample */
+    double t_align_s;               /* time spent in ALIGN */
+    double align_angle_err_rad;     /* true theta_e - align_angle_e_rad */
+    double align_omega_m_rad_s;     /* true omega_m */
+    double peak_current_align_A;    /* max |i_abc| during ALIGN */
     /* faults */
     uint32_t faults;                /* latched at the end */
     double t_first_fault_s;         /* tb of the first fault, or -1 */
@@ -62,5 +70,10 @@ double bench_ref_rpm(double tb_s);
  * BENCH_T0_S), print the metrics with `label`, return them. */
 bench_result_t bench_run(const plant_config_t *pc, const mc_config_t *fc,
                          const char *label);
+
+/* The same up to benchmark time tb_end_s (<= BENCH_LENGTH_S); metrics of
+ * windows not reached are NaN (RMS) or 0 (maxima). */
+bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc,
+                            const char *label, double tb_end_s);
 
 #endif /* TEST_P001_BENCH_H */

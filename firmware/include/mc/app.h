@@ -7,9 +7,17 @@
  *   IDLE --enable--> CALIBRATING (PWM off, average calib_samples current
  *   samples = offsets) --done--> RUN (PWM on) --!enable--> IDLE
  *   Sensorless (MC_ANGLE_SOURCE_FLUX_OBSERVER): CALIBRATING --done-->
- *   ALIGN (PWM on: d-axis current ramped to align_current_A at the fixed
- *   angle align_angle_e_rad for align_time_s, so the rotor settles there)
- *   --done: observers start from that angle--> RUN; ALIGN --!enable--> IDLE.
+ *   ALIGN (PWM on; mc/align.h: a current vector of align_current_A first
+ *   at align_angle_e_rad + 90 deg electrical (ramped over align_ramp_s),
+ *   then at align_angle_e_rad, each held until the rotor has settled,
+ *   with active damping from a back-EMF speed estimate, so the start works
+ *   from ANY rotor angle, the dead point 180 deg away included)
+ *   --settled: observers start at align_angle_e_rad--> RUN;
+ *   ALIGN --not settled within align_time_s--> FAULT (MC_FAULT_ESTIMATE:
+ *   RUN never starts with an unsettled rotor); ALIGN --!enable--> IDLE.
+ *   ALIGN lasts a variable time: about 0.8 s for the default motor and
+ *   configuration (each phase: swing over 90 deg, damped, then
+ *   align_settle_time_s of quiet).
  *   any --fault--> FAULT (PWM off in the same ISR call, latched)
  *   FAULT --clear_fault rising edge, no cause present--> IDLE
  * Every protection check runs in every ISR and state (under-voltage not in
@@ -43,6 +51,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/align.h"
 #include "mc/current_loop.h"
 #include "mc/delay_comp.h"
 #include "mc/encoder_tracker.h"
@@ -139,11 +148,19 @@ typedef struct {
                                      periods, [0.5, 1.5] (mc/delay_comp.h) */
     float idapbc_r_ohm;           /* damping r of (11); 0 = critically
                                      damped (mc_idapbc_critical_damping_f32) */
-    /* sensorless start (ALIGN state) */
-    float align_current_A;        /* d-axis current, (0, i_max_A) */
-    float align_ramp_s;           /* linear ramp time, [0, align_time_s] */
-    float align_time_s;           /* total, ramp included, (0, 10] */
+    /* sensorless start (ALIGN state, mc/align.h) */
+    float align_current_A;        /* vector current, (0, i_max_A) */
+    float align_ramp_s;           /* phase-1 linear ramp, [0, align_time_s] */
+    float align_time_s;           /* TIMEOUT of the whole ALIGN (both
+                                     phases): not settled by then =
+                                     MC_FAULT_ESTIMATE; (0, 10] */
     float align_angle_e_rad;      /* electrical angle, |.| <= 2 pi */
+    float align_damping_ratio;    /* zeta of the damped alignment, (0, 10];
+                                     k_d = 2 zeta omega_n J / (n_p kt) */
+    float align_i_q_max_A;        /* damping current limit, > 0 and
+                                     hypot(align_current_A, .) <= i_max_A */
+    float align_settle_speed_e_rad_s; /* settled: |omega_e_hat| below */
+    float align_settle_time_s;    /* for this long, [Ts, align_time_s) */
 } mc_config_t;
 
 /* Command set from outside the ISR. */
@@ -227,8 +244,7 @@ typedef struct {
     float i_q_hat_prev_A;         /* i_q_hat at the previous sample */
     float theta_e_hat_prev_rad;   /* for the multi-turn position */
     float theta_m_hat_rad;        /* multi-turn position estimate */
-    uint32_t align_count;         /* ISRs spent in ALIGN */
-    uint32_t align_ramp_n, align_total_n;
+    mc_align_f32_t align;         /* ALIGN sequence (mc/align.h) */
     /* timing */
     uint32_t isr_count;
     float isr_cost_s;             /* cost of the latest complete ISR */

@@ -60,6 +60,10 @@ static const field_t controller_fields[] = {
     F32("align_ramp_s", align_ramp_s, 0.0, 10.0, false),
     F32("align_time_s", align_time_s, 0.0, 10.0, true),
     F32("align_angle_e_rad", align_angle_e_rad, -7.0, 7.0, false),
+    F32("align_damping_ratio", align_damping_ratio, 0.0, 10.0, true),
+    F32("align_i_q_max_A", align_i_q_max_A, 0.0, 1e4, true),
+    F32("align_settle_speed_e_rad_s", align_settle_speed_e_rad_s, 0.0, 1e4, true),
+    F32("align_settle_time_s", align_settle_time_s, 0.0, 10.0, true),
 };
 
 static const field_t fault_limit_fields[] = {

@@ -61,9 +61,17 @@ MUT(rho_max_1, c->est_flux_ratio_max = 1.0f)
 MUT(delay_big, c->delay_periods = 2.0f)
 MUT(r_damp_neg, c->idapbc_r_ohm = -0.1f)
 MUT(align_i_big, c->align_current_A = 10.0f)    /* not < i_max */
-MUT(align_ramp_long, c->align_ramp_s = 0.6f)    /* > align_time_s */
+MUT(align_ramp_long, c->align_ramp_s = 2.5f)    /* > align_time_s */
 MUT(align_time_zero, (c->align_time_s = 0.0f, c->align_ramp_s = 0.0f))
 MUT(align_angle_big, c->align_angle_e_rad = 7.0f)
+MUT(align_zeta_zero, c->align_damping_ratio = 0.0f)
+MUT(align_zeta_big, c->align_damping_ratio = 11.0f)
+MUT(align_iq_zero, c->align_i_q_max_A = 0.0f)
+MUT(align_iq_big, c->align_i_q_max_A = 9.9f)  /* hypot(2, 9.9) > i_max */
+MUT(align_speed_zero, c->align_settle_speed_e_rad_s = 0.0f)
+MUT(align_hold_short, c->align_settle_time_s = 1e-5f)  /* < Ts */
+MUT(align_hold_long, c->align_settle_time_s = 2.0f)    /* not < timeout */
+MUT(align_zeta_nan, c->align_damping_ratio = NAN)
 
 static const struct {
     mutate_fn f;
@@ -92,7 +100,11 @@ static const struct {
     { rho_max_1, MC_ERR_PARAM }, { delay_big, MC_ERR_PARAM },
     { r_damp_neg, MC_ERR_PARAM }, { align_i_big, MC_ERR_PARAM },
     { align_ramp_long, MC_ERR_PARAM }, { align_time_zero, MC_ERR_PARAM },
-    { align_angle_big, MC_ERR_PARAM },
+    { align_angle_big, MC_ERR_PARAM }, { align_zeta_zero, MC_ERR_PARAM },
+    { align_zeta_big, MC_ERR_PARAM }, { align_iq_zero, MC_ERR_PARAM },
+    { align_iq_big, MC_ERR_PARAM }, { align_speed_zero, MC_ERR_PARAM },
+    { align_hold_short, MC_ERR_PARAM }, { align_hold_long, MC_ERR_PARAM },
+    { align_zeta_nan, MC_ERR_NONFINITE },
 };
 
 static void test_default_config_is_valid(void **state)

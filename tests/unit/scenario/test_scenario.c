@@ -372,6 +372,10 @@ static void sensorless_controller_keys(void **state)
         "controller.align_ramp_s=0.2",
         "controller.align_time_s=0.6",
         "controller.align_angle_e_rad=1.0",
+        "controller.align_damping_ratio=0.7",
+        "controller.align_i_q_max_A=1.5",
+        "controller.align_settle_speed_e_rad_s=0.01",
+        "controller.align_settle_time_s=0.1",
     };
     assert_true(load(valid_doc, keys, sizeof(keys) / sizeof(keys[0])));
     const mc_config_t *c = &scn.controller;
@@ -386,6 +390,9 @@ static void sensorless_controller_keys(void **state)
     assert_true(c->delay_periods == 1.0f && c->idapbc_r_ohm == 0.5f);
     assert_true(c->align_current_A == 3.0f && c->align_ramp_s == 0.2f &&
                 c->align_time_s == 0.6f && c->align_angle_e_rad == 1.0f);
+    assert_true(c->align_damping_ratio == 0.7f && c->align_i_q_max_A == 1.5f &&
+                c->align_settle_speed_e_rad_s == 0.01f &&
+                c->align_settle_time_s == 0.1f);
 
     /* ranges of the keys themselves */
     const char *ratio[] = { "controller.est_flux_ratio_min=1.2" };
@@ -407,7 +414,7 @@ static void sensorless_controller_keys(void **state)
     assert_false(load(valid_doc, align, 2));
     assert_int_equal(err.code, SCN_ERR_INVALID);
     assert_string_equal(err.path, "controller.align_current_A");
-    const char *ramp[] = { "controller.align_ramp_s=0.8" };
+    const char *ramp[] = { "controller.align_ramp_s=2.5" };
     assert_false(load(valid_doc, ramp, 1));
     assert_int_equal(err.code, SCN_ERR_INVALID);
     assert_string_equal(err.path, "controller.align_ramp_s");

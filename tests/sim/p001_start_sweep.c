@@ -1,0 +1,56 @@
+#include "p001_start_sweep.h"
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+
+#define PI_D 3.14159265358979323846
+
+double p001_sweep_offset_e_rad(unsigned k)
+{
+    return (k < 12u) ? (double)k * PI_D / 6.0 : PI_D - 1e-3;
+}
+
+static bench_result_t run_case(mc_controller_t controller, unsigned k)
+{
+    plant_config_t pc;
+    mc_config_t fc;
+    bench_plant_config(&pc, 1.0, 1.0, 1.0);
+    bench_fw_config(&fc, controller);
+    assert_true(pc.motor.B_Nm_s_rad == 0.0);
+    const double off = p001_sweep_offset_e_rad(k);
+    pc.theta_m0_rad = ((double)fc.align_angle_e_rad + off) /
+                      (double)pc.motor.pole_pairs;
+    char label[64];
+    (void)snprintf(label, sizeof label, "%s start %+.4f rad",
+                   controller == MC_CONTROLLER_IDAPBC ? "paper" : "NAM", off);
+    return bench_run_to(&pc, &fc, label, 2.5);
+}
+
+void p001_sweep_assert_all(mc_controller_t controller)
+{
+    double t_max = 0.0, err_max = 0.0, w_max = 0.0, i_max = 0.0;
+    for (unsigned k = 0u; k < P001_SWEEP_N; ++k) {
+        const bench_result_t r = run_case(controller, k);
+        assert_int_equal(r.faults, 0u);
+        assert_true(r.t_first_fault_s < 0.0);
+        assert_true(r.t_run_s > 0.0 && r.t_run_s <= BENCH_T0_S);
+        assert_true(fabs(r.align_angle_err_rad) <= 0.02);
+        assert_true(fabs(r.align_omega_m_rad_s) <= 0.01);
+        assert_true(r.peak_current_align_A <= 3.0);
+        assert_true(r.rms_speed_err_50_rpm <= 0.05);
+        assert_true(r.dip_load_1s_rpm <= 20.0);
+        assert_true(r.rms_angle_err_50_rad <= 1e-3);
+        t_max = fmax(t_max, r.t_align_s);
+        err_max = fmax(err_max, fabs(r.align_angle_err_rad));
+        w_max = fmax(w_max, fabs(r.align_omega_m_rad_s));
+        i_max = fmax(i_max, r.peak_current_align_A);
+    }
+    printf("%u start angles: ALIGN <= %.4f s, |angle err| <= %.3g rad, "
+           "|w| <= %.3g rad/s, ALIGN current <= %.4g A\n", P001_SWEEP_N,
+           t_max, err_max, w_max, i_max);
+}
