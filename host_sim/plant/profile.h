@@ -90,6 +90,16 @@ int sim_profile_validate(const sim_profile_t *p, const char **msg);
 /* v(t). The profile must have passed sim_profile_validate(). */
 double sim_profile_eval(const sim_profile_t *p, double t_s);
 
+/* The smooth piece of the profile that is active at t_piece_s (its linear
+ * breakpoint segment, the sines and polynomial started by then), evaluated
+ * at t_s, which may lie outside that piece. sim_profile_eval(p, t) is
+ * sim_profile_eval_on_piece(p, t, t). For integrators: the stages of one
+ * step evaluated on the piece of the step's midpoint see a smooth
+ * function, so a step that ends at a breakpoint (even when rounding of the
+ * step times puts the breakpoint a few ulp inside it) keeps the order of
+ * the method instead of dropping to first order. */
+double sim_profile_eval_on_piece(const sim_profile_t *p, double t_s, double t_piece_s);
+
 /* dv/dt(t): slope of the piecewise-linear part (0 outside the breakpoints,
  * the right-hand slope at a breakpoint; a step contributes no impulse) plus
  * the exact derivatives of the sinusoids, polynomial and noise. */

@@ -11,13 +11,14 @@
 static void rk4_step(const plant_t *p, const plant_source_t *src, double t_s, double h,
                      double x[PX_LEN]) {
   double k1[PX_LEN], k2[PX_LEN], k3[PX_LEN], k4[PX_LEN], xs[PX_LEN];
-  plant_derivatives(p, src, t_s, x, k1, NULL);
+  const double t_mid = t_s + 0.5 * h;
+  plant_derivatives(p, src, t_s, t_mid, x, k1, NULL);
   for (int j = 0; j < PX_LEN; ++j) xs[j] = x[j] + 0.5 * h * k1[j];
-  plant_derivatives(p, src, t_s + 0.5 * h, xs, k2, NULL);
+  plant_derivatives(p, src, t_mid, t_mid, xs, k2, NULL);
   for (int j = 0; j < PX_LEN; ++j) xs[j] = x[j] + 0.5 * h * k2[j];
-  plant_derivatives(p, src, t_s + 0.5 * h, xs, k3, NULL);
+  plant_derivatives(p, src, t_mid, t_mid, xs, k3, NULL);
   for (int j = 0; j < PX_LEN; ++j) xs[j] = x[j] + h * k3[j];
-  plant_derivatives(p, src, t_s + h, xs, k4, NULL);
+  plant_derivatives(p, src, t_s + h, t_mid, xs, k4, NULL);
   for (int j = 0; j < PX_LEN; ++j) {
     x[j] += (h / 6.0) * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]);
   }
@@ -26,7 +27,7 @@ static void rk4_step(const plant_t *p, const plant_source_t *src, double t_s, do
 static void update_view(plant_t *p, const plant_source_t *src) {
   plant_aux_t aux;
   double dx[PX_LEN];
-  plant_derivatives(p, src, p->t_s, p->x, dx, &aux);
+  plant_derivatives(p, src, p->t_s, p->t_s, p->x, dx, &aux);
   plant_true_state_t *v = &p->view;
   v->t_s = p->t_s;
   v->i_d_A = p->x[PX_ID];

@@ -52,7 +52,8 @@ static void source_voltages(const plant_source_t *src, double i_d, double i_q, d
 }
 
 void plant_derivatives(const plant_t *p, const plant_source_t *src, double t_s,
-                       const double x[PX_LEN], double dx[PX_LEN], plant_aux_t *aux) {
+                       double t_piece_s, const double x[PX_LEN], double dx[PX_LEN],
+                       plant_aux_t *aux) {
   const plant_motor_params_t *m = &p->cfg.motor;
   const double i_d = x[PX_ID];
   const double i_q = x[PX_IQ];
@@ -78,7 +79,7 @@ void plant_derivatives(const plant_t *p, const plant_source_t *src, double t_s,
   }
 
   const double tau_e = 1.5 * p->n_p * (p->psi_Wb * i_q + (p->Ld_H - p->Lq_H) * i_d * i_q);
-  const double tau_load = sim_profile_eval(&p->cfg.load_torque_Nm, t_s);
+  const double tau_load = sim_profile_eval_on_piece(&p->cfg.load_torque_Nm, t_s, t_piece_s);
   const double tau_cog = plant_cogging_torque(p, x[PX_THETA]);
   const double tau_fric = friction_torque(m, omega_m);
   if (p->cfg.locked_rotor) {

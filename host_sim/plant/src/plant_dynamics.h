@@ -34,10 +34,12 @@ typedef struct {
   double tau_e_Nm, tau_load_Nm, tau_cog_Nm, tau_friction_Nm;
 } plant_aux_t;
 
-/* dx/dt at time t_s for state x under the voltage source src.
- * aux may be NULL. */
+/* dx/dt at time t_s for state x under the voltage source src. The load
+ * profile is evaluated on its piece active at t_piece_s (the midpoint of
+ * the integration step; see sim_profile_eval_on_piece). aux may be NULL. */
 void plant_derivatives(const plant_t *p, const plant_source_t *src, double t_s,
-                       const double x[PX_LEN], double dx[PX_LEN], plant_aux_t *aux);
+                       double t_piece_s, const double x[PX_LEN], double dx[PX_LEN],
+                       plant_aux_t *aux);
 
 /* tau_cog(theta_m) = sum_k A_k cos(k Q theta_m + phi_k) [N m]. */
 double plant_cogging_torque(const plant_t *p, double theta_m_rad);

@@ -106,11 +106,12 @@ static int last_point_at_or_before(const sim_profile_t *p, double t_s) {
   return i;
 }
 
-static double points_eval(const sim_profile_t *p, double t_s) {
+/* The linear piece active at t_piece_s, evaluated (extended) at t_s. */
+static double points_eval(const sim_profile_t *p, double t_s, double t_piece_s) {
   if (p->n_points == 0u) {
     return 0.0;
   }
-  const int i = last_point_at_or_before(p, t_s);
+  const int i = last_point_at_or_before(p, t_piece_s);
   if (i < 0) {
     return p->points[0].value;
   }
@@ -119,7 +120,7 @@ static double points_eval(const sim_profile_t *p, double t_s) {
   }
   const sim_profile_point_t *a = &p->points[i];
   const sim_profile_point_t *b = &p->points[i + 1];
-  /* b->t_s > t_s >= a->t_s, so the span is positive */
+  /* b->t_s > t_piece_s >= a->t_s, so the span is positive */
   return a->value + (b->value - a->value) * (t_s - a->t_s) / (b->t_s - a->t_s);
 }
 
@@ -147,14 +148,18 @@ static double noise_amplitude(const sim_profile_noise_t *n) {
 }
 
 double sim_profile_eval(const sim_profile_t *p, double t_s) {
-  double v = points_eval(p, t_s);
+  return sim_profile_eval_on_piece(p, t_s, t_s);
+}
+
+double sim_profile_eval_on_piece(const sim_profile_t *p, double t_s, double t_piece_s) {
+  double v = points_eval(p, t_s, t_piece_s);
   for (uint32_t i = 0; i < p->n_sines; ++i) {
     const sim_profile_sine_t *s = &p->sines[i];
-    if (t_s >= s->t_start_s) {
+    if (t_piece_s >= s->t_start_s) {
       v += s->amplitude * sin(TWO_PI * s->freq_hz * (t_s - s->t_start_s) + s->phase_rad);
     }
   }
-  if (p->poly.n_coeffs > 0u && t_s >= p->poly.t_start_s) {
+  if (p->poly.n_coeffs > 0u && t_piece_s >= p->poly.t_start_s) {
     const double tau = t_s - p->poly.t_start_s;
     double acc = 0.0;
     for (uint32_t k = p->poly.n_coeffs; k-- > 0u;) {

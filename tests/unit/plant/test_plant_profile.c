@@ -44,6 +44,36 @@ static void test_step_and_ramp(void **state) {
   assert_true(sim_profile_deriv(&p, 0.5) == 0.0);
 }
 
+/* Evaluation on the piece active at another time: the piece's own formula,
+ * extended past its ends (hand-computed). */
+static void test_eval_on_piece(void **state) {
+  (void)state;
+  sim_profile_t p;
+  sim_profile_clear(&p);
+  /* 0 until 0.1 s, step to 2 at 0.1 s, ramp to 5 at 0.4 s, hold */
+  const sim_profile_point_t pts[] = {{0.0, 0.0}, {0.1, 0.0}, {0.1, 2.0}, {0.4, 5.0}};
+  for (uint32_t i = 0; i < 4; ++i) p.points[i] = pts[i];
+  p.n_points = 4;
+  p.sines[0] = (sim_profile_sine_t){.amplitude = 0.5, .freq_hz = 1.0, .phase_rad = 0.0, .t_start_s = 0.1};
+  p.n_sines = 1;
+  assert_int_equal(sim_profile_validate(&p, NULL), SIM_PROFILE_OK);
+  const double eps = 1e-15; /* a step time rounded a few ulp off */
+  /* before the step, on the piece after it: the ramp 2 + 10 (t - 0.1)
+   * extended back, plus the sine that starts with that piece */
+  const double t_before = 0.1 - eps;
+  assert_near(sim_profile_eval_on_piece(&p, t_before, 0.1 + 5e-6),
+              2.0 + 10.0 * (t_before - 0.1) + 0.5 * sin(2.0 * TEST_PI * (t_before - 0.1)), 1e-12);
+  /* after the step, on the piece before it: still 0, no sine yet */
+  assert_true(sim_profile_eval_on_piece(&p, 0.1 + eps, 0.1 - 5e-6) == 0.0);
+  /* the ramp extended past its end at 0.4 s */
+  assert_near(sim_profile_eval_on_piece(&p, 0.41, 0.39),
+              2.0 + 10.0 * 0.31 + 0.5 * sin(2.0 * TEST_PI * 0.31), 1e-12);
+  /* on its own time it is sim_profile_eval */
+  for (double t = -0.05; t < 0.6; t += 0.013) {
+    assert_true(sim_profile_eval_on_piece(&p, t, t) == sim_profile_eval(&p, t));
+  }
+}
+
 static void test_sines_and_polynomial(void **state) {
   (void)state;
   sim_profile_t p;
@@ -149,6 +179,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_empty_is_zero_and_constant),
       cmocka_unit_test(test_step_and_ramp),
+      cmocka_unit_test(test_eval_on_piece),
       cmocka_unit_test(test_sines_and_polynomial),
       cmocka_unit_test(test_noise_statistics),
       cmocka_unit_test(test_invalid_profiles),
