@@ -8,7 +8,9 @@
  *   i_d_ref_A, i_q_ref_A, i_a_A, i_b_A, i_c_A (true), v_d_ref_V, v_q_ref_V,
  *   v_a_V, v_b_V, v_c_V (plant phase voltages, period averages), v_dc_V,
  *   tau_e_Nm, tau_load_Nm (true), tau_load_est_Nm (firmware estimate, 0 with
- *   the encoder), state (mc_state_t), faults (mc_fault_t bits)
+ *   the encoder), state (mc_state_t), faults (mc_fault_t bits, latched),
+ *   outputs_on (1 if the inverter switched during the period that starts
+ *   at t_s, 0 if its outputs were off)
  */
 #ifndef PMSM_SIM_TRACE_CSV_H
 #define PMSM_SIM_TRACE_CSV_H

@@ -5,6 +5,9 @@
 # CASE bad_scenario: invalid scenarios exit 3 naming the key path on stderr;
 #                    a bad command line exits 2
 # CASE plot:         --plot writes a PNG (needs the project venv, tools/setup.sh)
+# CASE fault:        faults injected through the scenario (a NaN current sample,
+#                    an over-current sensor spike) latch the fault at the sample
+#                    they appear in, with the PWM off from that very period on
 cmake_minimum_required(VERSION 3.25)
 
 # check(<message> <if() condition words>...)
@@ -90,6 +93,54 @@ elseif(CASE STREQUAL "plot")
   check("pmsm-sim run --plot exited ${rc}: ${err}" rc EQUAL 0)
   file(READ "${WORK_DIR}/trace.png" signature LIMIT 8 HEX)
   check("trace.png is not a PNG (${signature})" signature STREQUAL 89504e470d0a1a0a)
+elseif(CASE STREQUAL "fault")
+  # One row per PWM period (20 kHz, 50 us); the injection starts at 0.1 s.
+  foreach(injection
+      "{\"kind\": \"current_nan\", \"phase\": \"a\", \"t_start_s\": 0.1}|nonfinite|8"
+      "{\"kind\": \"current_offset\", \"phase\": \"b\", \"offset_A\": 40, \"t_start_s\": 0.1, \"t_end_s\": 0.1001}|overcurrent|1")
+    string(REPLACE "|" ";" parts "${injection}")
+    list(GET parts 0 spec)
+    list(GET parts 1 fault_name)
+    list(GET parts 2 fault_bit)
+    execute_process(
+      COMMAND "${PMSM_SIM}" run "${SCENARIO}" --set duration_s=0.15
+              --set output.trace_decimation=1 --set "fault_injections=[${spec}]"
+              --json "${WORK_DIR}/metrics.json" --csv "${WORK_DIR}/trace.csv" --quiet
+      RESULT_VARIABLE rc ERROR_VARIABLE err)
+    check("pmsm-sim run with ${fault_name} exited ${rc}: ${err}" rc EQUAL 0)
+    file(READ "${WORK_DIR}/metrics.json" json)
+    string(JSON latched GET "${json}" faults latched 0)
+    string(JSON t_fault GET "${json}" faults first_fault_t_s)
+    string(JSON final_state GET "${json}" faults final_state)
+    check("${fault_name}: latched '${latched}'" latched STREQUAL fault_name)
+    check("${fault_name}: first fault at ${t_fault} s, injected at 0.1 s"
+          t_fault GREATER_EQUAL 0.09999 AND t_fault LESS 0.10004)
+    check("${fault_name}: final state '${final_state}' (latched)" final_state STREQUAL fault)
+    # Trace: outputs on before the fault sample; from the fault sample on,
+    # outputs off in every period and the fault bit stays latched.
+    file(STRINGS "${WORK_DIR}/trace.csv" rows)
+    list(REMOVE_AT rows 0)
+    set(on_before 0)
+    set(rows_after 0)
+    foreach(row IN LISTS rows)
+      string(REPLACE "," ";" cols "${row}")
+      list(GET cols 0 t)
+      list(GET cols 24 faults)
+      list(GET cols 25 outputs_on)
+      if(t LESS 0.09999)
+        if(outputs_on EQUAL 1)
+          math(EXPR on_before "${on_before} + 1")
+        endif()
+      else()
+        math(EXPR rows_after "${rows_after} + 1")
+        math(EXPR has_bit "${faults} & ${fault_bit}")
+        check("${fault_name}: at t = ${t} s outputs_on = ${outputs_on}, faults = ${faults}"
+              outputs_on EQUAL 0 AND has_bit EQUAL ${fault_bit})
+      endif()
+    endforeach()
+    check("${fault_name}: the drive never ran before the fault" on_before GREATER 1000)
+    check("${fault_name}: ${rows_after} rows after the fault" rows_after GREATER_EQUAL 999)
+  endforeach()
 else()
   message(FATAL_ERROR "unknown CASE '${CASE}'")
 endif()
