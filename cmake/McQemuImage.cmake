@@ -1,0 +1,76 @@
+# Cortex-M4 images for QEMU mps2-an386 and their ctest registration
+# (hal/qemu_m4/README.md). Cross builds only (arm-none-eabi-m4f.cmake).
+#
+# mc_add_qemu_image(<name> SOURCES <src>... [LIBS <lib>...]
+#                   [DEFINITIONS <def>...])
+#   An ELF image <name> linked with the mps2-an386 linker script, the
+#   startup/semihosting/HAL binding (mc_hal_qemu_m4) and
+#   -Wl,--wrap=mc_app_fast_isr (per-ISR instruction counts, isr_meter.h).
+#   Prints its size after the build.
+#
+# mc_add_qemu_test(<name> IMAGE <image> [EXIT_STATUS <n>] [TIMEOUT <s>]
+#                  [EXPECT "<key> <value> <abs_tol>"]...
+#                  [MAX "<key> <limit>"]...)
+#   ctest (label qemu) that runs the image under
+#   qemu-system-arm -M mps2-an386 -icount shift=6,align=off,sleep=off
+#   through tests/qemu/run_qemu_test.py: the exit status must equal
+#   EXIT_STATUS (default 0); each "CHECK <key> <value>" line the image
+#   prints is compared: |value - expected| <= tol (EXPECT) or value <= limit
+#   (MAX). A key named in EXPECT/MAX but not printed fails the test.
+
+find_program(MC_QEMU_SYSTEM_ARM qemu-system-arm REQUIRED)
+find_package(Python3 REQUIRED COMPONENTS Interpreter)
+
+set(MC_QEMU_ICOUNT_SHIFT 6 CACHE STRING
+  "QEMU -icount shift for the qemu tests (must match QEMU_M4_ICOUNT_SHIFT)")
+set(MC_QEMU_LINKER_SCRIPT ${PROJECT_SOURCE_DIR}/hal/qemu_m4/mps2_an386.ld)
+
+function(mc_add_qemu_image name)
+  cmake_parse_arguments(I "" "" "SOURCES;LIBS;DEFINITIONS" ${ARGN})
+  if(NOT I_SOURCES)
+    message(FATAL_ERROR "mc_add_qemu_image(${name}): SOURCES is required")
+  endif()
+  add_executable(${name} ${I_SOURCES})
+  set_target_properties(${name} PROPERTIES SUFFIX ".elf")
+  target_compile_definitions(${name} PRIVATE ${I_DEFINITIONS})
+  # The vector table and the reset handler are referenced by nothing but
+  # the linker script: -u pulls them out of the archive.
+  target_link_libraries(${name} PRIVATE ${I_LIBS} mc_hal_qemu_m4 mc_warnings m)
+  target_link_options(${name} PRIVATE
+    -nostartfiles
+    -Wl,-u,qemu_m4_vectors -Wl,-u,Reset_Handler
+    -T${MC_QEMU_LINKER_SCRIPT}
+    -Wl,--wrap=mc_app_fast_isr
+    -Wl,-Map=$<TARGET_FILE_DIR:${name}>/${name}.map)
+  set_property(TARGET ${name} APPEND PROPERTY LINK_DEPENDS ${MC_QEMU_LINKER_SCRIPT})
+  add_custom_command(TARGET ${name} POST_BUILD
+    COMMAND ${CMAKE_SIZE} $<TARGET_FILE:${name}>
+    VERBATIM)
+endfunction()
+
+function(mc_add_qemu_test name)
+  cmake_parse_arguments(T "" "IMAGE;EXIT_STATUS;TIMEOUT" "EXPECT;MAX" ${ARGN})
+  if(NOT T_IMAGE)
+    message(FATAL_ERROR "mc_add_qemu_test(${name}): IMAGE is required")
+  endif()
+  if(NOT DEFINED T_EXIT_STATUS)
+    set(T_EXIT_STATUS 0)
+  endif()
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 120)
+  endif()
+  set(checks "")
+  foreach(e IN LISTS T_EXPECT)
+    list(APPEND checks --expect ${e})
+  endforeach()
+  foreach(m IN LISTS T_MAX)
+    list(APPEND checks --max ${m})
+  endforeach()
+  add_test(NAME ${name}
+    COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/tests/qemu/run_qemu_test.py
+      --qemu ${MC_QEMU_SYSTEM_ARM} --icount-shift ${MC_QEMU_ICOUNT_SHIFT}
+      --exit-status ${T_EXIT_STATUS} --timeout ${T_TIMEOUT}
+      ${checks} $<TARGET_FILE:${T_IMAGE}>)
+  set_tests_properties(${name} PROPERTIES LABELS qemu
+    TIMEOUT ${T_TIMEOUT})
+endfunction()

@@ -1,0 +1,139 @@
+/*
+ * HAL binding of the QEMU image (the headers in hal/include/hal).
+ *
+ * The plant runs inside the image (host_sim/plant) and the closed loop is
+ * host_sim/engine, compiled unchanged for the M4; the engine talks to the
+ * HAL through the simulator mailbox (hal/sim_mailbox, shared with the host
+ * binding). This file is the image's backend of it: a plain static binding
+ * and the SysTick instruction counter of qemu_m4.h as the cycle counter.
+ * Calling a HAL function while unbound is a test-bench wiring error: the
+ * image prints it and exits with status QEMU_M4_EXIT_FAULT.
+ */
+#include <math.h>
+#include <stddef.h>
+
+#include "hal/time.h"
+#include "hal_sim_mailbox.h"
+#include "qemu_m4.h"
+#include "semihost.h"
+
+#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
+#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
+#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
+#define SYST_CSR_ENABLE 1u
+#define SYST_CSR_CLKSOURCE_CPU 4u
+#define SYST_RELOAD 0x00FFFFFFu
+
+static hal_sim_mailbox_t *bound;
+static uint32_t cc_last_raw;  /* SysTick value at the previous call */
+static uint32_t cc_ticks;     /* extended counter */
+
+void qemu_m4_counter_init(void)
+{
+    SYST_CSR = 0u;
+    SYST_RVR = SYST_RELOAD;
+    SYST_CVR = 0u; /* any write clears: counting starts at the reload */
+    SYST_CSR = SYST_CSR_ENABLE | SYST_CSR_CLKSOURCE_CPU;
+    cc_last_raw = qemu_m4_systick();
+    cc_ticks = 0u;
+}
+
+/* ---- Mailbox binding (hal_sim_mailbox.h): one per image ----------------- */
+
+void hal_sim_bind(hal_sim_mailbox_t *mailbox)
+{
+    bound = mailbox;
+}
+
+hal_sim_mailbox_t *hal_sim_bound(void)
+{
+    if (bound == NULL) {
+        semihost_puts("FATAL: HAL called with no mailbox bound\n");
+        semihost_exit(QEMU_M4_EXIT_FAULT);
+    }
+    return bound;
+}
+
+/* ---- Cycle counter --------------------------------------------------------- */
+
+uint32_t hal_cycle_counter(void)
+{
+    const uint32_t raw = qemu_m4_systick();
+    cc_ticks += qemu_m4_ticks_between(cc_last_raw, raw);
+    cc_last_raw = raw;
+    return cc_ticks;
+}
+
+uint32_t hal_cycle_counter_hz(void)
+{
+    /* ticks per second of a QEMU_M4_CORE_HZ core at one instruction per
+     * cycle: 168e6 * 2^6 / 40 = 268.8e6 (an integer for N >= 3). */
+    return (uint32_t)(((uint64_t)QEMU_M4_CORE_HZ << QEMU_M4_ICOUNT_SHIFT) / 40u);
+}
+
+/* ---- Console -------------------------------------------------------------- */
+
+void qemu_m4_puts(const char *s)
+{
+    semihost_puts(s);
+}
+
+static void put_u64(uint64_t v)
+{
+    char buf[24];
+    size_t i = sizeof buf - 1u;
+    buf[i] = '\0';
+    do {
+        buf[--i] = (char)('0' + (int)(v % 10u));
+        v /= 10u;
+    } while (v != 0u);
+    semihost_puts(&buf[i]);
+}
+
+void qemu_m4_put_u32(uint32_t v)
+{
+    put_u64(v);
+}
+
+void qemu_m4_put_i64(int64_t v)
+{
+    if (v < 0) {
+        semihost_putc('-');
+        put_u64((uint64_t)0 - (uint64_t)v);
+    } else {
+        put_u64((uint64_t)v);
+    }
+}
+
+void qemu_m4_put_fixed(double x, unsigned decimals)
+{
+    if (isnan(x)) {
+        semihost_puts("nan");
+        return;
+    }
+    if (x < 0.0) {
+        semihost_putc('-');
+        x = -x;
+    }
+    if (isinf(x) || x >= 9.0e15) {
+        semihost_puts("inf");
+        return;
+    }
+    uint64_t scale = 1u;
+    for (unsigned k = 0u; k < decimals; ++k) {
+        scale *= 10u;
+    }
+    const uint64_t n = (uint64_t)llround(x * (double)scale);
+    put_u64(n / scale);
+    if (decimals > 0u) {
+        char frac[24];
+        uint64_t f = n % scale;
+        frac[decimals] = '\0';
+        for (unsigned k = decimals; k > 0u; --k) {
+            frac[k - 1u] = (char)('0' + (int)(f % 10u));
+            f /= 10u;
+        }
+        semihost_putc('.');
+        semihost_puts(frac);
+    }
+}
