@@ -118,10 +118,10 @@ static uint32_t calibrate(mc_app_t *app, const float i_raw_A[3])
 }
 
 /* Outer loops: the current references of this ISR. Speed and position run
- * every speed_loop_decimation-th call; current mode follows the command
- * every call. */
+ * every speed_loop_decimation-th call (t->slow_loop_ran); current mode
+ * follows the command every call. */
 static void references(mc_app_t *app, const mc_command_t *cmd,
-                       const mc_telemetry_t *t)
+                       mc_telemetry_t *t)
 {
     if (cmd->mode != app->mode) {
         mc_speed_loop_reset_f32(&app->speed);
@@ -144,6 +144,7 @@ static void references(mc_app_t *app, const mc_command_t *cmd,
     if (!slow_tick) {
         return;
     }
+    t->slow_loop_ran = true;
     float w_ref;
     if (cmd->mode == MC_MODE_POSITION) {
         w_ref = mc_position_loop_step_f32(&app->position, cmd->theta_m_ref_rad,

@@ -39,7 +39,7 @@ void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res,
         const report_window_t *w = &rep->windows[i];
         fprintf(f, "  window %s [%g, %g] s:\n", w->name, w->t0_s, w->t1_s);
         for (size_t j = 0; j < w->n_items; j++) {
-            char label[64];
+            char label[sizeof w->items[j].label + 2u];
             snprintf(label, sizeof(label), "  %s", w->items[j].label);
             print_value(f, label, w->items[j].value, w->items[j].status, w->items[j].unit);
         }

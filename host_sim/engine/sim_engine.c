@@ -38,11 +38,11 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg,
         return fail(e, SIM_ENGINE_ERR_MISMATCH,
                     "firmware encoder_cpr differs from 4 x plant encoder lines");
     }
-    hal_host_mailbox_reset(&e->mailbox);
+    hal_sim_mailbox_reset(&e->mailbox);
     e->mailbox.encoder_cpr = cpr;
-    hal_host_bind(&e->mailbox);
+    hal_sim_bind(&e->mailbox);
     const mc_status_t st = mc_app_init(&e->app, fw_cfg);
-    hal_host_bind(NULL);
+    hal_sim_bind(NULL);
     if (st != MC_OK) {
         return fail(e, SIM_ENGINE_ERR_FIRMWARE,
                     "firmware config rejected by mc_app_init");
@@ -125,7 +125,7 @@ static uint32_t apply_injections(const sim_engine_t *e, plant_measurement_t *m,
 }
 
 /* Measurement -> mailbox (the ADC and encoder registers of the host). */
-static void fill_mailbox(hal_host_mailbox_t *mb, const plant_measurement_t *m,
+static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m,
                          bool fault_input)
 {
     for (unsigned k = 0u; k < 3u; ++k) {
@@ -163,19 +163,19 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
 
     /* 3. HAL mailbox, command, fast ISR. */
     fill_mailbox(&e->mailbox, &s->meas, fault_input);
-    hal_host_bind(&e->mailbox);
+    hal_sim_bind(&e->mailbox);
     if (mc_app_set_command(&e->app, cmd) != MC_OK) {
-        hal_host_bind(NULL);
+        hal_sim_bind(NULL);
         return fail(e, SIM_ENGINE_ERR_COMMAND, "command has an unknown mode");
     }
     mc_app_fast_isr(&e->app);
     (void)mc_app_get_telemetry(&e->app, &s->fw); /* no concurrency here */
-    hal_host_bind(NULL);
+    hal_sim_bind(NULL);
     s->cmd = *cmd;
 
     /* 4. Advance with the previous ISR's duties; enable is delayed like
      * the duties, disable is immediate. */
-    const bool outputs_now = hal_host_outputs_active(&e->mailbox);
+    const bool outputs_now = hal_sim_outputs_active(&e->mailbox);
     s->outputs_applied = e->outputs_next && outputs_now;
     for (unsigned k = 0u; k < 3u; ++k) {
         s->duty_applied[k] = e->duty_next[k];

@@ -32,7 +32,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "hal_host.h"
+#include "hal_sim_mailbox.h"
 #include "mc/app.h"
 #include "plant.h"
 
@@ -86,7 +86,7 @@ typedef struct {
 typedef struct {
     plant_t plant;
     mc_app_t app;
-    hal_host_mailbox_t mailbox;
+    hal_sim_mailbox_t mailbox;
     double duty_next[3];          /* latched by the last ISR */
     bool outputs_next;
     sim_injection_t injections[SIM_ENGINE_MAX_INJECTIONS];

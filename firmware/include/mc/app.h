@@ -15,9 +15,10 @@
  *   --settled: observers start at align_angle_e_rad--> RUN;
  *   ALIGN --not settled within align_time_s--> FAULT (MC_FAULT_ESTIMATE:
  *   RUN never starts with an unsettled rotor); ALIGN --!enable--> IDLE.
- *   ALIGN lasts a variable time: about 0.8 s for the default motor and
- *   configuration (each phase: swing over 90 deg, damped, then
- *   align_settle_time_s of quiet).
+ *   ALIGN lasts a variable time: 0.89-1.52 s for the default motor and
+ *   configuration, depending on the start angle (measured over 13 start
+ *   angles in tests/sim/test_p001_start; each phase: a damped swing of up
+ *   to 90 deg, then align_settle_time_s of quiet).
  *   any --fault--> FAULT (PWM off in the same ISR call, latched)
  *   FAULT --clear_fault rising edge, no cause present--> IDLE
  * Every protection check runs in every ISR and state (under-voltage not in
@@ -203,6 +204,8 @@ typedef struct {
     float isr_cost_s;             /* cost of this ISR, entry to duty write */
     float isr_cost_max_s;         /* maximum since init */
     uint32_t isr_overruns;        /* ISRs with cost > period since init */
+    bool slow_loop_ran;           /* this ISR ran the decimated speed /
+                                     position loop */
 } mc_telemetry_t;
 
 /* Application instance, owned by the caller (one per drive). Opaque:

@@ -302,6 +302,26 @@ static void test_command_mode_validated(void **state)
     assert_int_equal(mc_app_set_command(&app, &bad), MC_ERR_PARAM);
 }
 
+/* Speed mode: the slow loop runs in the first RUN ISR of the mode and then
+ * in every speed_loop_decimation-th ISR; telemetry says which; current
+ * mode never runs it. */
+static void test_slow_loop_decimation_reported(void **state)
+{
+    (void)state;
+    go_to_run();
+    isr();
+    assert_false(tlm().slow_loop_ran); /* current mode */
+    cmd.mode = MC_MODE_SPEED;
+    cmd.omega_m_ref_rad_s = 0.0f;
+    const uint32_t n = cfg.speed_loop_decimation;
+    assert_true(n > 1u);
+    for (uint32_t k = 0; k < 3u * n; ++k) {
+        isr();
+        assert_int_equal(tlm().state, MC_STATE_RUN);
+        assert_int_equal(tlm().slow_loop_ran, (k % n) == 0u);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -316,6 +336,7 @@ int main(void)
         cmocka_unit_test_setup(test_nan_reference_faults, setup),
         cmocka_unit_test_setup(test_current_reference_limited, setup),
         cmocka_unit_test_setup(test_command_mode_validated, setup),
+        cmocka_unit_test_setup(test_slow_loop_decimation_reported, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

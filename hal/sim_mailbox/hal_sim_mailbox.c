@@ -1,0 +1,124 @@
+/* The HAL contract on the bound simulator mailbox (hal_sim_mailbox.h). */
+#include "hal_sim_mailbox.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "hal/encoder.h"
+#include "hal/gpio.h"
+#include "hal/pwm.h"
+#include "hal/time.h"
+
+#define HAL_SIM_NS_PER_S 1000000000u
+
+void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox)
+{
+    *mailbox = (hal_sim_mailbox_t){
+        .duty_abc = { 0.5f, 0.5f, 0.5f },
+    };
+}
+
+bool hal_sim_outputs_active(const hal_sim_mailbox_t *mailbox)
+{
+    return mailbox->pwm_outputs_enabled && mailbox->power_stage_enabled;
+}
+
+/* ---- PWM ---------------------------------------------------------------- */
+
+hal_status_t hal_pwm_init(float f_pwm_hz)
+{
+    hal_sim_mailbox_t *m = hal_sim_bound();
+    if (!isfinite(f_pwm_hz) || !(f_pwm_hz > 0.0f)) {
+        return HAL_ERR_PARAM;
+    }
+    m->pwm_period_s = 1.0f / f_pwm_hz;
+    m->pwm_outputs_enabled = false;
+    return HAL_OK;
+}
+
+float hal_pwm_period_s(void)
+{
+    return hal_sim_bound()->pwm_period_s;
+}
+
+void hal_pwm_set_duties(const float duty_abc[3])
+{
+    hal_sim_mailbox_t *m = hal_sim_bound();
+    for (unsigned k = 0u; k < 3u; ++k) {
+        float d = duty_abc[k];
+        if (!(d >= 0.0f)) {
+            d = isnan(d) ? 0.5f : 0.0f; /* contract: protect the hardware */
+        } else if (d > 1.0f) {
+            d = 1.0f;
+        }
+        m->duty_abc[k] = d;
+    }
+}
+
+void hal_pwm_enable_outputs(void)
+{
+    hal_sim_bound()->pwm_outputs_enabled = true;
+}
+
+void hal_pwm_disable_outputs(void)
+{
+    hal_sim_bound()->pwm_outputs_enabled = false;
+}
+
+bool hal_pwm_outputs_enabled(void)
+{
+    return hal_sim_bound()->pwm_outputs_enabled;
+}
+
+/* ---- ADC, encoder, GPIO -------------------------------------------------- */
+
+void hal_adc_read(hal_adc_sample_t *out)
+{
+    *out = hal_sim_bound()->adc;
+}
+
+uint32_t hal_encoder_counts_per_rev(void)
+{
+    return hal_sim_bound()->encoder_cpr;
+}
+
+uint32_t hal_encoder_count(void)
+{
+    return hal_sim_bound()->encoder_count;
+}
+
+bool hal_encoder_index(uint32_t *count_at_index)
+{
+    const hal_sim_mailbox_t *m = hal_sim_bound();
+    if (count_at_index != NULL) {
+        *count_at_index = m->encoder_count_at_index;
+    }
+    return m->encoder_index_seen;
+}
+
+bool hal_gpio_fault_input_active(void)
+{
+    return hal_sim_bound()->fault_input_active;
+}
+
+void hal_gpio_power_stage_enable(bool enable)
+{
+    hal_sim_bound()->power_stage_enabled = enable;
+}
+
+void hal_gpio_debug_pin_set(bool level)
+{
+    hal_sim_bound()->debug_pin = level;
+}
+
+/* ---- Time (the cycle counter is the backend's) --------------------------- */
+
+uint64_t hal_time_ticks(void)
+{
+    return hal_sim_bound()->sim_time_ns; /* simulated time, set by the engine */
+}
+
+uint32_t hal_time_tick_hz(void)
+{
+    return HAL_SIM_NS_PER_S;
+}

@@ -1,0 +1,61 @@
+/*
+ * The HAL contract (hal/include/hal) bound to a simulator's mailbox: shared
+ * by the host binding (hal/host) and the QEMU image (hal/qemu_m4), which
+ * both run the firmware against the plant model through host_sim/engine.
+ *
+ * The engine owns a mailbox per simulated drive and binds it before it
+ * calls into the firmware; the HAL functions read the engine's inputs from
+ * it and write the firmware's outputs into it. The firmware never sees
+ * plant state except through these HAL calls.
+ *
+ *   engine -> firmware: ADC sample, encoder count/index, fault input, time
+ *   firmware -> engine: duties, PWM outputs enable, power-stage enable,
+ *                       debug pin, PWM period
+ *
+ * hal_sim_mailbox.c implements the PWM, ADC, encoder, GPIO and
+ * hal_time_ticks functions on the bound mailbox (monotonic time = the
+ * SIMULATED time in ns, hal_time_tick_hz() = 1e9). Each backend provides
+ * the rest: where the binding is kept (hal_sim_bind, hal_sim_bound) and
+ * the cycle counter (hal_cycle_counter, hal_cycle_counter_hz).
+ */
+#ifndef HAL_SIM_MAILBOX_H
+#define HAL_SIM_MAILBOX_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal/adc.h"
+
+typedef struct {
+    /* engine -> firmware */
+    hal_adc_sample_t adc;
+    uint32_t encoder_cpr;
+    uint32_t encoder_count;
+    bool encoder_index_seen;
+    uint32_t encoder_count_at_index;
+    bool fault_input_active;
+    uint64_t sim_time_ns;
+    /* firmware -> engine */
+    float pwm_period_s;          /* 0 until hal_pwm_init */
+    float duty_abc[3];           /* [0, 1], applied from the next period */
+    bool pwm_outputs_enabled;
+    bool power_stage_enabled;
+    bool debug_pin;
+} hal_sim_mailbox_t;
+
+/* Bind (or with NULL unbind) the mailbox used by every HAL call.
+ * Backend-provided (host: per thread; QEMU image: one per image). */
+void hal_sim_bind(hal_sim_mailbox_t *mailbox);
+
+/* The bound mailbox. Backend-provided; a HAL call while unbound is a
+ * wiring error of the test bench and ends the program (never returns
+ * NULL). */
+hal_sim_mailbox_t *hal_sim_bound(void);
+
+/* Zero a mailbox: duties 0.5, everything disabled, no fault input. */
+void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox);
+
+/* True when the inverter switches: PWM outputs AND power stage enabled. */
+bool hal_sim_outputs_active(const hal_sim_mailbox_t *mailbox);
+
+#endif /* HAL_SIM_MAILBOX_H */
