@@ -13,6 +13,10 @@
 /* Phase 1 only has to leave the rotor well away from phase 2's dead
  * point: a 10x looser speed threshold (|sin(delta)| bound 10x larger). */
 #define MC_ALIGN_PHASE1_SPEED_FACTOR 10.0f
+/* Largest sample count of the whole alignment (timeout_s / Ts_s; ramp and
+ * settle are shorter): the counts are rounded into uint32_t, so anything
+ * beyond would wrap to a wrong, shorter timeout. 2^30 (15 h at 20 kHz). */
+#define MC_ALIGN_COUNT_MAX 1073741824.0f
 
 static bool params_ok(const mc_align_params_t *p)
 {
@@ -36,7 +40,8 @@ mc_status_t mc_align_init_f32(mc_align_f32_t *a, const mc_align_params_t *p)
     if (!mc_all_finite_f32(f, (uint32_t)(sizeof f / sizeof f[0]))) {
         return MC_ERR_NONFINITE;
     }
-    if (!params_ok(p)) {
+    if (!params_ok(p) ||
+        !(p->timeout_s / p->Ts_s <= MC_ALIGN_COUNT_MAX)) { /* Ts > 0 checked */
         return MC_ERR_PARAM;
     }
     const float n_p = (float)p->pole_pairs;

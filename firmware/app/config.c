@@ -78,7 +78,8 @@ void mc_config_init_default(mc_config_t *cfg)
          * = sqrt(n_p kt I / J) = 19.6 rad/s), ramped over 0.1 s;
          * critically damped (k_d = 0.204 A per electrical rad/s), the
          * damping current limited to 2 A (|i| <= 2.83 A). Settled: below
-         * 0.2 electrical rad/s for 50 ms (|sin(delta)| <~ 0.021, see
+         * 0.002 electrical rad/s for 50 ms, i.e. |sin(delta)| <~ 2 * 0.002
+         * / (19.6^2 * 0.05) = 2.1e-4 (phase 1: 10x looser, 2.1e-3; see
          * mc/align.h). Timeout 2 s: each phase needs about 0.4 s from
          * 90 deg away. */
         .align_current_A = 2.0f,

@@ -29,7 +29,7 @@ mc_status_t mc_encoder_tracker_init(mc_encoder_tracker_t *et, uint32_t cpr,
     et->rad_per_count = MC_TWO_PI_F / (float)cpr;
     /* Critically damped PLL: s^2 + kp s + ki = (s + w)^2. */
     et->kp_per_s = 2.0f * w_pll_rad_s;
-    et->ki_per_s2 = w_pll_rad_s * w_pll_rad_s;
+    et->ki_Ts_per_s = w_pll_rad_s * w_pll_rad_s * Ts_s; /* ki Ts, once */
     et->Ts_s = Ts_s;
     et->primed = false;
     et->last_count = 0u;
@@ -68,7 +68,7 @@ mc_status_t mc_encoder_tracker_update(mc_encoder_tracker_t *et, uint32_t count,
 
     /* Angle-tracking PLL (header): speed = integral branch. */
     const float e = mc_angle_diff_f32(theta_meas, et->theta_hat_rad);
-    et->omega_hat_rad_s += et->ki_per_s2 * et->Ts_s * e;
+    et->omega_hat_rad_s += et->ki_Ts_per_s * e;
     et->theta_hat_rad = mc_wrap_pi_f32(
         et->theta_hat_rad + et->Ts_s * (et->omega_hat_rad_s + et->kp_per_s * e));
 

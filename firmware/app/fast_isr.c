@@ -36,9 +36,17 @@ static void raise_faults(mc_app_t *app, uint32_t faults)
     }
 }
 
+/* The sample in the stationary frame (Clarke once per ISR) and sin / cos
+ * of the controller's electrical angle. */
+typedef struct {
+    float i_alpha_A, i_beta_A;
+    float s, c;
+} mc_frame_t;
+
 /* Angle source (config enum): theta_e, theta_m, omega_m (and tau_L_hat,
  * flux_ratio_sq when sensorless) into *t. */
-static uint32_t estimate(mc_app_t *app, uint32_t count, mc_telemetry_t *t)
+static uint32_t estimate(mc_app_t *app, uint32_t count, const mc_frame_t *fr,
+                         mc_telemetry_t *t)
 {
     uint32_t faults = MC_FAULT_NONE;
     switch (app->cfg.angle_source) {
@@ -53,7 +61,8 @@ static uint32_t estimate(mc_app_t *app, uint32_t count, mc_telemetry_t *t)
         break;
     }
     case MC_ANGLE_SOURCE_FLUX_OBSERVER:
-        faults = mc_app_sensorless_estimate(app, t);
+        faults = mc_app_sensorless_estimate(app, fr->i_alpha_A,
+                                            fr->i_beta_A, t);
         break;
     default:
         return MC_FAULT_NONFINITE; /* unreachable: init validates the enum */
@@ -162,19 +171,13 @@ static void references(mc_app_t *app, const mc_command_t *cmd,
     } /* IDA-PBC: the speed reference enters (11) directly */
 }
 
-/* sin and cos of the controller's electrical angle. */
-typedef struct {
-    float s, c;
-} mc_sincos_t;
-
-/* Measured d/q currents (Clarke, Park) for control and telemetry. */
-static void measure_dq(mc_telemetry_t *t, mc_sincos_t *sc)
+/* sin / cos of the controller's angle into *fr; measured d/q currents
+ * (Park) for control and telemetry. */
+static void measure_dq(mc_frame_t *fr, mc_telemetry_t *t)
 {
-    mc_sincos_f32(t->theta_e_rad, &sc->s, &sc->c);
-    float i_al;
-    float i_be;
-    mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &i_al, &i_be);
-    mc_park_f32(i_al, i_be, sc->s, sc->c, &t->i_d_A, &t->i_q_A);
+    mc_sincos_f32(t->theta_e_rad, &fr->s, &fr->c);
+    mc_park_f32(fr->i_alpha_A, fr->i_beta_A, fr->s, fr->c, &t->i_d_A,
+                &t->i_q_A);
 }
 
 /* Baseline current loop: d/q PI + decoupling; v_d, v_q of *t. */
@@ -200,10 +203,11 @@ static uint32_t control_foc_pi(mc_app_t *app, mc_telemetry_t *t)
 /* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
  * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit.
  * Also fills the alpha/beta voltage the inverter will apply. */
-static uint32_t modulate(mc_app_t *app, const mc_sincos_t *sc,
+static uint32_t modulate(mc_app_t *app, const mc_frame_t *fr,
                          mc_telemetry_t *t)
 {
-    mc_sincos_t scv = *sc;
+    float s = fr->s;
+    float c = fr->c;
     if (app->delay_comp.enabled) {
         const float theta_v = mc_delay_comp_angle_f32(
             &app->delay_comp, t->theta_e_rad,
@@ -211,11 +215,11 @@ static uint32_t modulate(mc_app_t *app, const mc_sincos_t *sc,
         if (!isfinite(theta_v)) {
             return MC_FAULT_NONFINITE;
         }
-        mc_sincos_f32(theta_v, &scv.s, &scv.c);
+        mc_sincos_f32(theta_v, &s, &c);
     }
     float v_al;
     float v_be;
-    mc_inv_park_f32(t->v_d_V, t->v_q_V, scv.s, scv.c, &v_al, &v_be);
+    mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
     mc_svpwm_out_f32_t pwm;
     if (mc_svpwm_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm) !=
         MC_OK) {
@@ -242,7 +246,7 @@ static uint32_t check_outputs(const mc_telemetry_t *t)
 }
 
 static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
-                    const mc_sincos_t *sc, mc_telemetry_t *t)
+                    const mc_frame_t *fr, mc_telemetry_t *t)
 {
     references(app, cmd, t);
     t->i_d_ref_A = app->i_d_ref_A;
@@ -264,7 +268,7 @@ static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
         break;
     }
     if (faults == MC_FAULT_NONE) {
-        faults = modulate(app, sc, t);
+        faults = modulate(app, fr, t);
     }
     faults |= check_outputs(t);
     if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {
@@ -277,20 +281,21 @@ static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
  * loop, in the frame of the ALIGN vector (the estimate() reports its angle
  * outside RUN); once settled the observers start at the alignment angle
  * and RUN begins; a settle timeout is MC_FAULT_ESTIMATE. */
-static uint32_t align(mc_app_t *app, const mc_sincos_t *sc,
+static uint32_t align(mc_app_t *app, const mc_frame_t *fr,
                       mc_telemetry_t *t)
 {
     mc_align_state_t st = MC_ALIGN_BUSY;
-    uint32_t faults = mc_app_sensorless_align(app, t, &st);
+    uint32_t faults =
+        mc_app_sensorless_align(app, fr->i_alpha_A, fr->i_beta_A, t, &st);
     if (faults == MC_FAULT_NONE) {
         faults = control_foc_pi(app, t);
     }
     if (faults == MC_FAULT_NONE) {
-        faults = modulate(app, sc, t);
+        faults = modulate(app, fr, t);
     }
     faults |= check_outputs(t);
     if (faults == MC_FAULT_NONE && st == MC_ALIGN_DONE) {
-        faults = mc_app_sensorless_start(app, t->i_abc_A);
+        faults = mc_app_sensorless_start(app, fr->i_alpha_A, fr->i_beta_A);
         if (faults == MC_FAULT_NONE) {
             start_run(app);
         }
@@ -301,7 +306,7 @@ static uint32_t align(mc_app_t *app, const mc_sincos_t *sc,
 /* State transitions and actions of this ISR (after the protection). */
 static void state_machine(mc_app_t *app, const mc_command_t *cmd,
                           const float i_raw_A[3], uint32_t active,
-                          const mc_sincos_t *sc, mc_telemetry_t *t)
+                          const mc_frame_t *fr, mc_telemetry_t *t)
 {
     const bool clear_edge = cmd->clear_fault && !app->clear_prev;
     app->clear_prev = cmd->clear_fault;
@@ -329,14 +334,14 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
         if (!cmd->enable) {
             app->state = MC_STATE_IDLE;
         } else {
-            raise_faults(app, align(app, sc, t));
+            raise_faults(app, align(app, fr, t));
         }
         break;
     case MC_STATE_RUN:
         if (!cmd->enable) {
             app->state = MC_STATE_IDLE;
         } else {
-            raise_faults(app, run(app, cmd, sc, t));
+            raise_faults(app, run(app, cmd, fr, t));
         }
         break;
     case MC_STATE_FAULT:
@@ -369,6 +374,9 @@ void mc_app_fast_isr(mc_app_t *app)
     for (uint32_t k = 0u; k < 3u; ++k) {
         t.i_abc_A[k] = adc.i_abc_A[k] - app->i_offset_A[k];
     }
+    mc_frame_t fr;
+    mc_clarke_f32(t.i_abc_A[0], t.i_abc_A[1], t.i_abc_A[2], &fr.i_alpha_A,
+                  &fr.i_beta_A);
 
     /* Protect and estimate: the causes present now. Under-voltage is not
      * checked in IDLE (the bus may be legitimately down while the drive is
@@ -382,13 +390,12 @@ void mc_app_fast_isr(mc_app_t *app)
     if (app->overrun_streak >= app->cfg.isr_overrun_limit) {
         active |= MC_FAULT_ISR_OVERRUN; /* still overrunning */
     }
-    active |= estimate(app, count, &t);
-    mc_sincos_t sc;
-    measure_dq(&t, &sc);
+    active |= estimate(app, count, &fr, &t);
+    measure_dq(&fr, &t);
     raise_faults(app, active);
 
     /* Transitions, calibration, control. */
-    state_machine(app, cmd, adc.i_abc_A, active, &sc, &t);
+    state_machine(app, cmd, adc.i_abc_A, active, &fr, &t);
 
     /* Write: duties for the next period, or everything off. The voltage
      * they apply is recorded for the flux observer (mc/delay_comp.h). */

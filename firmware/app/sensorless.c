@@ -4,7 +4,6 @@
 
 #include "app_internal.h"
 #include "mc/angle.h"
-#include "mc/clarke.h"
 
 mc_status_t mc_app_sensorless_init(mc_app_t *app, const mc_config_t *c)
 {
@@ -76,26 +75,19 @@ mc_status_t mc_app_sensorless_init(mc_app_t *app, const mc_config_t *c)
         .kt_Nm_per_A = app->kt_Nm_per_A, .pole_pairs = c->pole_pairs,
         .Ts_s = Ts,
     };
-    st = mc_align_init_f32(&app->align, &ap);
-    if (st != MC_OK) {
-        return st;
-    }
-    return MC_OK;
+    return mc_align_init_f32(&app->align, &ap);
 }
 
-uint32_t mc_app_sensorless_start(mc_app_t *app, const float i_abc_A[3])
+uint32_t mc_app_sensorless_start(mc_app_t *app, float i_alpha_A, float i_beta_A)
 {
     const float theta = app->cfg.align_angle_e_rad;
-    float i_al;
-    float i_be;
-    mc_clarke_f32(i_abc_A[0], i_abc_A[1], i_abc_A[2], &i_al, &i_be);
-    if (mc_flux_obs_reset_f32(&app->flux_obs, theta, i_al, i_be) != MC_OK ||
+    if (mc_flux_obs_reset_f32(&app->flux_obs, theta, i_alpha_A, i_beta_A) != MC_OK ||
         mc_speed_load_obs_reset_f32(&app->speed_obs, theta, 0.0f, 0.0f) !=
             MC_OK ||
         mc_pll_obs_reset_f32(&app->pll_obs, theta, 0.0f, 0.0f) != MC_OK) {
         return MC_FAULT_NONFINITE;
     }
-    app->i_q_hat_prev_A = mc_flux_obs_iq_f32(&app->flux_obs, i_al, i_be);
+    app->i_q_hat_prev_A = mc_flux_obs_iq_f32(&app->flux_obs, i_alpha_A, i_beta_A);
     app->theta_e_hat_prev_rad = mc_flux_obs_theta_e_f32(&app->flux_obs);
     return MC_FAULT_NONE;
 }
@@ -117,7 +109,8 @@ static uint32_t bounds_fault(mc_status_t st)
     return (st == MC_OK) ? MC_FAULT_NONE : MC_FAULT_NONFINITE;
 }
 
-uint32_t mc_app_sensorless_estimate(mc_app_t *app, mc_telemetry_t *t)
+uint32_t mc_app_sensorless_estimate(mc_app_t *app, float i_alpha_A, float i_beta_A,
+                                    mc_telemetry_t *t)
 {
     t->flux_ratio_sq = mc_flux_obs_rho_sq_f32(&app->flux_obs);
     if (app->state != MC_STATE_RUN) {
@@ -129,13 +122,10 @@ uint32_t mc_app_sensorless_estimate(mc_app_t *app, mc_telemetry_t *t)
         t->tau_L_hat_Nm = 0.0f;
         return MC_FAULT_NONE;
     }
-    float i_al;
-    float i_be;
-    mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &i_al, &i_be);
     float v_al;
     float v_be;
     mc_applied_voltage_last_f32(&app->v_applied, &v_al, &v_be);
-    if (mc_flux_obs_step_f32(&app->flux_obs, i_al, i_be, v_al, v_be) !=
+    if (mc_flux_obs_step_f32(&app->flux_obs, i_alpha_A, i_beta_A, v_al, v_be) !=
         MC_OK) {
         return MC_FAULT_NONFINITE;
     }
@@ -143,7 +133,7 @@ uint32_t mc_app_sensorless_estimate(mc_app_t *app, mc_telemetry_t *t)
     t->flux_ratio_sq = mc_flux_obs_rho_sq_f32(&app->flux_obs);
     uint32_t faults = check_flux(app, t->flux_ratio_sq);
     /* i_q over [t_{k-1}, t_k]: trapezoid of the two samples. */
-    const float i_q_hat = mc_flux_obs_iq_f32(&app->flux_obs, i_al, i_be);
+    const float i_q_hat = mc_flux_obs_iq_f32(&app->flux_obs, i_alpha_A, i_beta_A);
     const float i_q_mean = 0.5f * (i_q_hat + app->i_q_hat_prev_A);
     app->i_q_hat_prev_A = i_q_hat;
     mc_status_t st;
@@ -180,17 +170,14 @@ uint32_t mc_app_sensorless_estimate(mc_app_t *app, mc_telemetry_t *t)
     return faults;
 }
 
-uint32_t mc_app_sensorless_align(mc_app_t *app, mc_telemetry_t *t,
-                                  mc_align_state_t *state)
+uint32_t mc_app_sensorless_align(mc_app_t *app, float i_alpha_A, float i_beta_A,
+                                 mc_telemetry_t *t, mc_align_state_t *state)
 {
-    float i_al;
-    float i_be;
-    mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &i_al, &i_be);
     float v_al;
     float v_be;
     mc_applied_voltage_last_f32(&app->v_applied, &v_al, &v_be);
     mc_align_out_t o;
-    if (mc_align_step_f32(&app->align, i_al, i_be, v_al, v_be, &o) !=
+    if (mc_align_step_f32(&app->align, i_alpha_A, i_beta_A, v_al, v_be, &o) !=
         MC_OK) {
         return MC_FAULT_NONFINITE;
     }

@@ -72,6 +72,24 @@ void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl)
     mc_pi_f32_reset(&cl->pi_q, 0.0f);
 }
 
+/* One axis: the PI output is limited to the room the feed-forward leaves
+ * within +-v_lim_V (anti-windup, mc/pi.h), *v_V = PI(error) + ff. *sat
+ * tells that the PI sits on a limit. MC_ERR_NONFINITE when the limits are
+ * not a finite interval. */
+static mc_status_t axis_step(mc_pi_f32_t *pi, float v_lim_V, float ff_V,
+                             float error_A, float *v_V, bool *sat)
+{
+    const float lo = -v_lim_V - ff_V;
+    const float hi = v_lim_V - ff_V;
+    if (mc_pi_f32_set_limits(pi, lo, hi) != MC_OK) {
+        return MC_ERR_NONFINITE;
+    }
+    const float u = mc_pi_f32_step(pi, error_A);
+    *v_V = u + ff_V;
+    *sat = (u <= lo) || (u >= hi);
+    return MC_OK;
+}
+
 mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl,
                                      float i_d_A, float i_q_A,
                                      float i_d_ref_A, float i_q_ref_A,
@@ -94,32 +112,30 @@ mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl,
     const float ff_q = omega_e_rad_s * (cl->Ld_H * i_d_A + cl->psi_Wb);
 
     /* d axis first: the PI may use what the feed-forward leaves. */
-    const float d_lo = -v_max - ff_d;
-    const float d_hi = v_max - ff_d;
-    if (mc_pi_f32_set_limits(&cl->pi_d, d_lo, d_hi) != MC_OK) {
+    float v_d;
+    bool sat_d;
+    if (axis_step(&cl->pi_d, v_max, ff_d, i_d_ref_A - i_d_A, &v_d, &sat_d) !=
+        MC_OK) {
         return MC_ERR_NONFINITE;
     }
-    const float u_d = mc_pi_f32_step(&cl->pi_d, i_d_ref_A - i_d_A);
-    const float v_d = u_d + ff_d;
 
     /* q axis: the rest of the circle. */
-    float room_sq = v_max * v_max - v_d * v_d;
+    const float room_sq = v_max * v_max - v_d * v_d;
     const float room_min = MC_CL_Q_ROOM_MIN * v_max;
-    float v_q_max = (room_sq > room_min * room_min) ? sqrtf(room_sq) : room_min;
-    const float q_lo = -v_q_max - ff_q;
-    const float q_hi = v_q_max - ff_q;
-    if (mc_pi_f32_set_limits(&cl->pi_q, q_lo, q_hi) != MC_OK) {
+    const float v_q_max =
+        (room_sq > room_min * room_min) ? sqrtf(room_sq) : room_min;
+    float v_q;
+    bool sat_q;
+    if (axis_step(&cl->pi_q, v_q_max, ff_q, i_q_ref_A - i_q_A, &v_q, &sat_q) !=
+        MC_OK) {
         return MC_ERR_NONFINITE;
     }
-    const float u_q = mc_pi_f32_step(&cl->pi_q, i_q_ref_A - i_q_A);
-    const float v_q = u_q + ff_q;
 
     if (!isfinite(v_d) || !isfinite(v_q)) {
         return MC_ERR_NONFINITE;
     }
     out->v_d_V = v_d;
     out->v_q_V = v_q;
-    out->saturated = (u_d <= d_lo) || (u_d >= d_hi) ||
-                     (u_q <= q_lo) || (u_q >= q_hi);
+    out->saturated = sat_d || sat_q;
     return MC_OK;
 }

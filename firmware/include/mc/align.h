@@ -45,7 +45,8 @@
  * below settle_speed for settle_time. A rotor held that long below that
  * speed by the spring torque kt I_a sin(delta) must sit within
  * |sin(delta)| <~ 2 settle_speed / (omega_n^2 settle_time) of an
- * equilibrium (0.021 with the defaults). The bound uses the configured J:
+ * equilibrium (2.1e-4 with the defaults; phase 1, whose threshold is 10x
+ * higher, 2.1e-3). The bound uses the configured J:
  * a plant inertia m times larger loosens it m times (measured: J x100
  * passes the check at a slow turning point 0.17 rad off), so set J_kgm2 to
  * the largest inertia expected (or lengthen settle_time). A constant load
@@ -67,7 +68,7 @@
 typedef struct {
     float i_align_A;            /* d current I_a, > 0 */
     float ramp_s;               /* phase-1 ramp, [0, timeout_s] */
-    float timeout_s;            /* whole alignment, > 0 */
+    float timeout_s;            /* whole alignment, > 0, at most 2^30 Ts */
     float angle_e_rad;          /* theta_a, finite */
     float damping_ratio;        /* zeta, (0, 10] */
     float i_q_max_A;            /* damping current limit, > 0 */

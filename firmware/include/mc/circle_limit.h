@@ -15,7 +15,8 @@
  * (including NaN, 0, negative) both components are set to NaN and true is
  * returned (a configuration error becomes a visible fault, never a
  * silent zero). A vector with a NaN or Inf component is returned unchanged
- * with false (non-finite values are never replaced by finite ones). Magnitudes up to FLT_MAX are handled without overflow.
+ * with false (non-finite values are never replaced by finite ones).
+ * Magnitudes up to FLT_MAX are handled without overflow.
  * Bounded time (at most one sqrt and four divisions); callable from
  * interrupt context.
  */

@@ -36,7 +36,9 @@ typedef struct {
     uint32_t pole_pairs;
     float offset_e_rad;
     float rad_per_count;
-    float kp_per_s, ki_per_s2, Ts_s;
+    float kp_per_s;           /* 2 w_pll */
+    float ki_Ts_per_s;        /* ki Ts = w_pll^2 Ts (per-sample gain) */
+    float Ts_s;
     /* state */
     bool primed;
     uint32_t last_count;

@@ -1,7 +1,7 @@
 /*
  * Fault codes and the protection checks of the fast ISR.
  *
- * Faults are bits of a uint32_t mask. mc_faults_check() evaluates the
+ * Faults are bits of a uint32_t mask. mc_faults_check_sample() evaluates the
  * conditions of one sample (which causes are present NOW); the application
  * latches them (mc/app.h): a latched fault disables the PWM outputs in the
  * same ISR call and is cleared only by an explicit command once its cause is
@@ -39,14 +39,16 @@ typedef struct {
 } mc_fault_limits_t;
 
 /* Check the limits: all finite, i_trip_A > 0, 0 <= v_dc_min_V < v_dc_max_V.
- * Returns MC_OK or MC_ERR_PARAM. Not for interrupt context (init only). */
+ * Returns MC_OK, MC_ERR_NONFINITE (a NaN/Inf limit) or MC_ERR_PARAM.
+ * Not for interrupt context (init only). */
 mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);
 
 /* Causes present in one sample of phase currents (A, offset-corrected) and
  * DC-bus voltage (V). check_undervoltage: false while the drive is IDLE
  * (the bus may legitimately be down); the application checks it in every
- * other state, FAULT included, so a clear waits for the bus. A non-finite current or voltage
- * gives MC_FAULT_NONFINITE (and no other bit for that quantity).
+ * other state, FAULT included, so a clear waits for the bus. A non-finite
+ * current or voltage gives MC_FAULT_NONFINITE (and no other bit for that
+ * quantity).
  * Callable from interrupt context: yes (bounded, no division). */
 uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
                                 const float i_abc_A[3], float v_dc_V,

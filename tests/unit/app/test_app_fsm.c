@@ -164,7 +164,11 @@ static void cause_nan_current(bool on) { g_hal.adc.i_abc_A[0] = on ? NAN : 0.0f;
 static void cause_inf_vdc(bool on) { g_hal.adc.v_dc_V = on ? INFINITY : 48.0f; }
 static void cause_external(bool on) { g_hal.fault_input = on; }
 static void cause_encoder(bool on) { g_hal.encoder_count = on ? 10000u : 0u; }
-static void cause_overrun(bool on) { g_hal.cycle_step = on ? 51u : 2u; }
+/* Each cycle-counter read advances the stub clock by cycle_step, so the
+ * ISR measures its cost as one step: 51 cycles = 51 us at
+ * HAL_STUB_CYCLE_HZ, over the 50 us period at 20 kHz. */
+#define OVERRUN_CYCLES 51u
+static void cause_overrun(bool on) { g_hal.cycle_step = on ? OVERRUN_CYCLES : 2u; }
 
 static const struct {
     cause_fn cause;
@@ -258,7 +262,8 @@ static void test_overrun_limit_counts_consecutive(void **state)
     mc_telemetry_t t = tlm();
     assert_int_equal(t.state, MC_STATE_RUN);
     assert_int_equal(t.isr_overruns, 4u);
-    assert_float_equal(t.isr_cost_max_s, 51e-6, 1e-9);
+    assert_float_equal(t.isr_cost_max_s,
+                       (double)OVERRUN_CYCLES / (double)HAL_STUB_CYCLE_HZ, 1e-9);
     cause_overrun(true);
     isr();
     isr();
