@@ -12,6 +12,7 @@ debian_packages=(
   gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi
   libcmocka-dev libcjson-dev
   qemu-system-arm
+  python3-venv
 )
 
 missing=()

@@ -122,7 +122,6 @@ static void record(run_result_t *res, uint64_t k, const scenario_t *s,
 typedef struct {
     double start_s;
     double last_print_s;
-    bool printed;
 } progress_t;
 
 static void progress_update(progress_t *p, double sim_s, double duration_s)
@@ -134,7 +133,6 @@ static void progress_update(progress_t *p, double sim_s, double duration_s)
     fprintf(stderr, "pmsm-sim: simulated %.2f of %.2f s (%.0f %%), %.1f s wall\n", sim_s,
             duration_s, 100.0 * sim_s / duration_s, now - p->start_s);
     p->last_print_s = now;
-    p->printed = true;
 }
 
 static bool setup_engine(const scenario_t *s, sim_engine_t *engine, char *msg, size_t msg_size)

@@ -151,6 +151,11 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
     if (!e->initialised) {
         return fail(e, SIM_ENGINE_ERR_STATE, "engine is not initialised");
     }
+    /* The command first: a rejected one must leave no trace (no PRNG
+     * draw, no consumed encoder index, sim_engine_last() unchanged). */
+    if (mc_app_set_command(&e->app, cmd) != MC_OK) {
+        return fail(e, SIM_ENGINE_ERR_COMMAND, "command has an unknown mode");
+    }
     sim_trace_sample_t *s = &e->last;
     s->k = e->k;
     s->plant = *plant_true_state(&e->plant);
@@ -161,13 +166,9 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
     bool fault_input;
     s->injections_active = apply_injections(e, &s->meas, &fault_input);
 
-    /* 3. HAL mailbox, command, fast ISR. */
+    /* 3. HAL mailbox, fast ISR. */
     fill_mailbox(&e->mailbox, &s->meas, fault_input);
     hal_sim_bind(&e->mailbox);
-    if (mc_app_set_command(&e->app, cmd) != MC_OK) {
-        hal_sim_bind(NULL);
-        return fail(e, SIM_ENGINE_ERR_COMMAND, "command has an unknown mode");
-    }
     mc_app_fast_isr(&e->app);
     (void)mc_app_get_telemetry(&e->app, &s->fw); /* no concurrency here */
     hal_sim_bind(NULL);

@@ -2,10 +2,10 @@
  * sim_engine.h - closed-loop simulation: plant + host HAL + drive firmware.
  *
  * One sim_engine_step() is one PWM period k (t_k = k Ts):
+ *   0. the command goes to the firmware (mc_app_set_command);
  *   1. plant_sample(): currents, v_dc, encoder at the PWM centre t_k;
  *   2. active fault injections edit that measurement / the fault input;
- *   3. the host HAL mailbox gets the sample, the command goes to the
- *      firmware (mc_app_set_command), the firmware fast ISR runs;
+ *   3. the host HAL mailbox gets the sample, the firmware fast ISR runs;
  *   4. plant_advance() over [t_k, t_k + Ts) with the duties of the PREVIOUS
  *      ISR (the real drive's one-period delay: duties computed from the
  *      sample at t_k are latched at the next period start). The PWM outputs
@@ -113,7 +113,8 @@ const char *sim_engine_message(const sim_engine_t *e);
 int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj);
 
 /* Simulate one PWM period with this command (see the top of this file).
- * SIM_ENGINE_ERR_COMMAND: unknown mode (the period is NOT simulated). */
+ * SIM_ENGINE_ERR_COMMAND: unknown mode; nothing changes (the period is NOT
+ * simulated, the sensors are not sampled, sim_engine_last() is kept). */
 int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd);
 
 /* The trace sample of the latest step (valid until the next step). */
