@@ -6,6 +6,8 @@
 #ifndef PAPER001_MOTOR_H
 #define PAPER001_MOTOR_H
 
+#include <math.h>
+
 #define P001_L_H 3.8e-3
 #define P001_R_OHM 0.225
 #define P001_FLUX_WB 0.17
@@ -16,5 +18,12 @@
 
 #define P001_PI 3.14159265358979323846
 #define P001_RAD_S_PER_RPM (2.0 * P001_PI / 60.0)
+
+/* An angle wrapped to [-pi, pi] in double (the reference the observer
+ * tests compare wrapped float angles against). */
+static inline double p001_wrap_rad(double x)
+{
+    return remainder(x, 2.0 * P001_PI);
+}
 
 #endif /* PAPER001_MOTOR_H */

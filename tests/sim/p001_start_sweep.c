@@ -31,10 +31,12 @@ static bench_result_t run_case(mc_controller_t controller, unsigned k)
     return bench_run_to(&pc, &fc, label, 2.5);
 }
 
-void p001_sweep_assert_all(mc_controller_t controller)
+void p001_sweep_assert_range(mc_controller_t controller, unsigned k_begin,
+                             unsigned k_end)
 {
+    assert_true(k_begin < k_end && k_end <= P001_SWEEP_N);
     double t_max = 0.0, err_max = 0.0, w_max = 0.0, i_max = 0.0;
-    for (unsigned k = 0u; k < P001_SWEEP_N; ++k) {
+    for (unsigned k = k_begin; k < k_end; ++k) {
         const bench_result_t r = run_case(controller, k);
         assert_int_equal(r.faults, 0u);
         assert_true(r.t_first_fault_s < 0.0);
@@ -50,7 +52,7 @@ void p001_sweep_assert_all(mc_controller_t controller)
         w_max = fmax(w_max, fabs(r.align_omega_m_rad_s));
         i_max = fmax(i_max, r.peak_current_align_A);
     }
-    printf("%u start angles: ALIGN <= %.4f s, |angle err| <= %.3g rad, "
-           "|w| <= %.3g rad/s, ALIGN current <= %.4g A\n", P001_SWEEP_N,
-           t_max, err_max, w_max, i_max);
+    printf("start angles %u..%u: ALIGN <= %.4f s, |angle err| <= %.3g rad, "
+           "|w| <= %.3g rad/s, ALIGN current <= %.4g A\n", k_begin,
+           k_end - 1u, t_max, err_max, w_max, i_max);
 }

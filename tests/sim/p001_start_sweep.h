@@ -1,6 +1,7 @@
 /*
- * Sensorless start from any rotor angle (shared by test_p001_start and
- * test_p001_start_nam): the benchmark of test_p001_bench.h up to the end
+ * Sensorless start from any rotor angle (test_p001_start_sweep.c, built
+ * once per controller and half of the angles so each executable stays
+ * short under ASan): the benchmark of test_p001_bench.h up to the end
  * of the 50 rpm hold (tb = 2.5 s, through the 1 N m load step at tb = 1 s)
  * from P001_SWEEP_N initial rotor angles (plant theta_m0), B = 0, no load
  * before tb = 1 s, nominal parameters.
@@ -26,7 +27,9 @@
 
 double p001_sweep_offset_e_rad(unsigned k);
 
-/* Run every case with this controller and assert the acceptance. */
-void p001_sweep_assert_all(mc_controller_t controller);
+/* Run the cases k_begin <= k < k_end with this controller and assert the
+ * acceptance of each. */
+void p001_sweep_assert_range(mc_controller_t controller, unsigned k_begin,
+                             unsigned k_end);
 
 #endif /* P001_START_SWEEP_H */

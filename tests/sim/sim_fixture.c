@@ -18,6 +18,12 @@ void fixture_fw_config(mc_config_t *cfg)
     mc_config_init_default(cfg);
 }
 
+void fixture_configs(plant_config_t *pc, mc_config_t *fc)
+{
+    fixture_plant_config(pc);
+    fixture_fw_config(fc);
+}
+
 sim_engine_t *fixture_engine(const plant_config_t *pc, const mc_config_t *fc)
 {
     sim_engine_t *e = malloc(sizeof *e);
@@ -41,6 +47,14 @@ void fixture_start(sim_engine_t *e, const mc_command_t *cmd,
         }
     }
     fail_msg("drive did not reach RUN in %u periods", (unsigned)limit);
+}
+
+sim_engine_t *fixture_running(const plant_config_t *pc, const mc_config_t *fc,
+                              const mc_command_t *cmd)
+{
+    sim_engine_t *e = fixture_engine(pc, fc);
+    fixture_start(e, cmd, fc);
+    return e;
 }
 
 void fixture_run_until(sim_engine_t *e, const mc_command_t *cmd, double t_end_s)

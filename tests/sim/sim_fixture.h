@@ -17,6 +17,9 @@ void fixture_plant_config(plant_config_t *cfg);
 /* Firmware: mc_config_init_default(). */
 void fixture_fw_config(mc_config_t *cfg);
 
+/* Both of the above. */
+void fixture_configs(plant_config_t *pc, mc_config_t *fc);
+
 /* A heap-allocated engine initialised with these configs (asserts OK).
  * Free with free(). */
 sim_engine_t *fixture_engine(const plant_config_t *pc, const mc_config_t *fc);
@@ -25,6 +28,10 @@ sim_engine_t *fixture_engine(const plant_config_t *pc, const mc_config_t *fc);
  * gets there within fc->calib_samples + 10 periods). */
 void fixture_start(sim_engine_t *e, const mc_command_t *cmd,
                    const mc_config_t *fc);
+
+/* fixture_engine() then fixture_start() with cmd: a drive in RUN. */
+sim_engine_t *fixture_running(const plant_config_t *pc, const mc_config_t *fc,
+                              const mc_command_t *cmd);
 
 /* Step with cmd until sim time reaches t_end_s. */
 void fixture_run_until(sim_engine_t *e, const mc_command_t *cmd, double t_end_s);

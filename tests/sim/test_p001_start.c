@@ -1,7 +1,8 @@
 /*
- * Sensorless start and its protection (paper 001 scheme in the app):
- * the damped two-phase ALIGN (mc/align.h) from any rotor angle, its
- * settle timeout, and the MC_FAULT_ESTIMATE fault in RUN.
+ * Sensorless start protection (paper 001 scheme in the app): the settle
+ * timeout of the damped two-phase ALIGN (mc/align.h) and the
+ * MC_FAULT_ESTIMATE fault in RUN. The start from any rotor angle is
+ * test_p001_start_sweep.c.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -12,15 +13,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "p001_start_sweep.h"
-
-/* The paper's scheme started from any rotor angle: the acceptance of
- * p001_start_sweep.h. */
-static void test_paper_starts_from_any_angle(void **state)
-{
-    (void)state;
-    p001_sweep_assert_all(MC_CONTROLLER_IDAPBC);
-}
+#include "test_p001_bench.h"
 
 /* Run from enable until FAULT or t_end_s; asserts RUN is never entered.
  * Returns the last sample (engine freed by the caller). */
@@ -127,7 +120,6 @@ static void test_estimate_out_of_bounds_faults(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_paper_starts_from_any_angle),
         cmocka_unit_test(test_unsettled_rotor_times_out),
         cmocka_unit_test(test_load_beyond_alignment_torque_faults),
         cmocka_unit_test(test_estimate_out_of_bounds_faults),

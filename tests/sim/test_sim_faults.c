@@ -30,9 +30,8 @@ static void run_fault_case(sim_inject_kind_t kind, double value,
 {
     plant_config_t pc;
     mc_config_t fc;
-    fixture_plant_config(&pc);
+    fixture_configs(&pc, &fc);
     pc.locked_rotor = true;
-    fixture_fw_config(&fc);
     sim_engine_t *e = fixture_engine(&pc, &fc);
     const sim_injection_t inj = { .kind = kind, .t_start_s = T_FAULT_S,
                                   .t_end_s = T_FAULT_S + FAULT_LEN_S,
@@ -106,34 +105,37 @@ static void run_fault_case(sim_inject_kind_t kind, double value,
     free(e);
 }
 
+/* One case of run_fault_case(), the state of its cmocka test. */
+typedef struct {
+    sim_inject_kind_t kind;
+    double value;
+    uint32_t expected_fault;
+} fault_case_t;
+
+static void test_fault_case(void **state)
+{
+    const fault_case_t *c = *state;
+    run_fault_case(c->kind, c->value, c->expected_fault);
+}
+
+/* A cmocka test of test_fault_case named after the case. */
+#define FAULT_CASE_TEST(c) \
+    { "test_" #c, test_fault_case, NULL, NULL, (void *)&(c) }
+
 /* A +30 A spike on the phase-b current sensor (trip level 20 A). */
-static void test_overcurrent_spike(void **state)
-{
-    (void)state;
-    run_fault_case(SIM_INJECT_CURRENT_OFFSET, 30.0, MC_FAULT_OVERCURRENT);
-}
-
+static const fault_case_t overcurrent_spike = {
+    SIM_INJECT_CURRENT_OFFSET, 30.0, MC_FAULT_OVERCURRENT };
 /* NaN in the phase-b current measurement. */
-static void test_nan_current(void **state)
-{
-    (void)state;
-    run_fault_case(SIM_INJECT_CURRENT_NAN, 0.0, MC_FAULT_NONFINITE);
-}
-
+static const fault_case_t nan_current = {
+    SIM_INJECT_CURRENT_NAN, 0.0, MC_FAULT_NONFINITE };
 /* External fault / STO input. */
-static void test_external_input(void **state)
-{
-    (void)state;
-    run_fault_case(SIM_INJECT_FAULT_INPUT, 0.0, MC_FAULT_EXTERNAL);
-}
-
+static const fault_case_t external_input = {
+    SIM_INJECT_FAULT_INPUT, 0.0, MC_FAULT_EXTERNAL };
 /* Bus voltage measured at 70 V (trip 60 V) and at 10 V (trip 20 V). */
-static void test_bus_over_and_under_voltage(void **state)
-{
-    (void)state;
-    run_fault_case(SIM_INJECT_VDC_MEASURED, 70.0, MC_FAULT_DC_OVERVOLTAGE);
-    run_fault_case(SIM_INJECT_VDC_MEASURED, 10.0, MC_FAULT_DC_UNDERVOLTAGE);
-}
+static const fault_case_t bus_overvoltage = {
+    SIM_INJECT_VDC_MEASURED, 70.0, MC_FAULT_DC_OVERVOLTAGE };
+static const fault_case_t bus_undervoltage = {
+    SIM_INJECT_VDC_MEASURED, 10.0, MC_FAULT_DC_UNDERVOLTAGE };
 
 /* A NaN reference in RUN is a non-finite fault too. */
 static void test_nan_reference(void **state)
@@ -141,12 +143,10 @@ static void test_nan_reference(void **state)
     (void)state;
     plant_config_t pc;
     mc_config_t fc;
-    fixture_plant_config(&pc);
+    fixture_configs(&pc, &fc);
     pc.locked_rotor = true;
-    fixture_fw_config(&fc);
-    sim_engine_t *e = fixture_engine(&pc, &fc);
     mc_command_t cmd = { .enable = true, .mode = MC_MODE_SPEED };
-    fixture_start(e, &cmd, &fc);
+    sim_engine_t *e = fixture_running(&pc, &fc, &cmd);
     fixture_run_until(e, &cmd, 0.04);
     cmd.omega_m_ref_rad_s = NAN;
     /* The speed loop runs every 10th ISR: the fault comes within 10. */
@@ -166,8 +166,7 @@ static void test_engine_rejects_bad_injections(void **state)
     (void)state;
     plant_config_t pc;
     mc_config_t fc;
-    fixture_plant_config(&pc);
-    fixture_fw_config(&fc);
+    fixture_configs(&pc, &fc);
     sim_engine_t *e = fixture_engine(&pc, &fc);
     const sim_injection_t bad[] = {
         { .kind = SIM_INJECT_CURRENT_OFFSET, .t_start_s = NAN, .t_end_s = 1.0 },
@@ -202,10 +201,11 @@ static void test_engine_rejects_bad_injections(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_overcurrent_spike),
-        cmocka_unit_test(test_nan_current),
-        cmocka_unit_test(test_external_input),
-        cmocka_unit_test(test_bus_over_and_under_voltage),
+        FAULT_CASE_TEST(overcurrent_spike),
+        FAULT_CASE_TEST(nan_current),
+        FAULT_CASE_TEST(external_input),
+        FAULT_CASE_TEST(bus_overvoltage),
+        FAULT_CASE_TEST(bus_undervoltage),
         cmocka_unit_test(test_nan_reference),
         cmocka_unit_test(test_engine_rejects_bad_injections),
     };

@@ -132,8 +132,7 @@ static void test_sensorless_idapbc(void **state)
     (void)state;
     plant_config_t pc;
     mc_config_t fc;
-    fixture_plant_config(&pc);
-    fixture_fw_config(&fc);
+    fixture_configs(&pc, &fc);
     fc.angle_source = MC_ANGLE_SOURCE_FLUX_OBSERVER;
     fc.controller = MC_CONTROLLER_IDAPBC;
     const speed_ramp_t ref = { 0.1, 300.0, 60.0 };
@@ -150,8 +149,7 @@ static void test_encoder_foc(void **state)
     (void)state;
     plant_config_t pc;
     mc_config_t fc;
-    fixture_plant_config(&pc);
-    fixture_fw_config(&fc);
+    fixture_configs(&pc, &fc);
     const speed_ramp_t ref = { 0.0, INFINITY, 20.0 * RPM_PER_RAD_S };
     set_load_step(&pc, 0.3);
     const diff_t d = run_lockstep(&pc, &fc, &ref, 0.6);

@@ -99,9 +99,8 @@ static void test_speed_step_then_load_step(void **state)
     const double J = (double)fc.J_kgm2;
     const double w_s = (double)fc.speed_bandwidth_rad_s;
 
-    sim_engine_t *e = fixture_engine(&pc, &fc);
     mc_command_t cmd = { .enable = true, .mode = MC_MODE_SPEED };
-    fixture_start(e, &cmd, &fc);
+    sim_engine_t *e = fixture_running(&pc, &fc, &cmd);
     fixture_run_until(e, &cmd, T_STEP_S);
     cmd.omega_m_ref_rad_s = (float)OMEGA_REF_RAD_S;
 
@@ -164,11 +163,9 @@ static void test_position_step(void **state)
     (void)state;
     plant_config_t pc;
     mc_config_t fc;
-    fixture_plant_config(&pc);
-    fixture_fw_config(&fc);
-    sim_engine_t *e = fixture_engine(&pc, &fc);
+    fixture_configs(&pc, &fc);
     mc_command_t cmd = { .enable = true, .mode = MC_MODE_POSITION };
-    fixture_start(e, &cmd, &fc);
+    sim_engine_t *e = fixture_running(&pc, &fc, &cmd);
     const double theta0 = sim_engine_last(e)->plant.theta_m_rad;
     cmd.theta_m_ref_rad = (float)(theta0 + 2.0);
     const double t0 = sim_engine_time_s(e);

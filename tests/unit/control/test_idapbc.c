@@ -65,6 +65,7 @@ static void test_critical_damping_places_double_pole(void **state)
     /* the paper's motor and model (kt = n_p Phi): r = 2 n_p Phi sqrt(L/J) */
     const double r_paper = 2.0 * NP * PHI * sqrt(LS / JM);
     assert_float_equal(critical_r(NP * PHI), r_paper, 1e-6 * r_paper);
+    /* by hand: 2 * 3 * 0.17 * sqrt(3.8e-3 / 0.012) = 1.02 * 0.562731 */
     assert_float_equal(r_paper, 0.57398, 1e-4);
     test_rng_t rng = test_rng_seed(99);
     for (int i = 0; i < 1000; i++) {

@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdbool.h>
 
 #include "mc/angle.h"
 #include "mc/park.h"
@@ -19,40 +20,50 @@
 #define PI_D 3.14159265358979323846
 #define FLT_EPS_D 1.1920929e-7
 
-static void test_park_rotates_by_minus_theta(void **state)
+typedef void (*rotation_f32_t)(float x, float y, float sin_theta,
+                               float cos_theta, float *x_out, float *y_out);
+
+/* One vector M (cos psi, sin psi) through `rotate`: the result must be
+ * M (cos(psi + sign theta), sin(psi + sign theta)) within 4 eps M per
+ * component (sign -1: Park, +1: inverse Park); with check_norm also
+ * |v| preserved by the rotation. */
+static void check_rotation(rotation_f32_t rotate, double sign, double mag,
+                           double psi, double theta, bool check_norm)
 {
-    (void)state;
-    test_rng_t rng = test_rng_seed(11);
+    float x, y;
+    rotate((float)(mag * cos(psi)), (float)(mag * sin(psi)),
+           (float)sin(theta), (float)cos(theta), &x, &y);
+    const double tol = 4.0 * FLT_EPS_D * mag;
+    assert_true(fabs(x - mag * cos(psi + sign * theta)) <= tol);
+    assert_true(fabs(y - mag * sin(psi + sign * theta)) <= tol);
+    if (check_norm) {
+        assert_true(fabs(hypot(x, y) - mag) <= tol);
+    }
+}
+
+/* N_RANDOM vectors, magnitude in [0, 100], angles in [-pi, pi]. */
+static void check_random_rotations(uint64_t seed, rotation_f32_t rotate,
+                                   double sign, bool check_norm)
+{
+    test_rng_t rng = test_rng_seed(seed);
     for (int n = 0; n < N_RANDOM; n++) {
         const double mag = test_rng_range(&rng, 0.0, 100.0);
         const double psi = test_rng_range(&rng, -PI_D, PI_D);
         const double theta = test_rng_range(&rng, -PI_D, PI_D);
-        float d, q;
-        mc_park_f32((float)(mag * cos(psi)), (float)(mag * sin(psi)),
-                    (float)sin(theta), (float)cos(theta), &d, &q);
-        const double tol = 4.0 * FLT_EPS_D * mag;
-        assert_true(fabs(d - mag * cos(psi - theta)) <= tol);
-        assert_true(fabs(q - mag * sin(psi - theta)) <= tol);
-        /* |v| preserved by the rotation */
-        assert_true(fabs(hypot(d, q) - mag) <= tol);
+        check_rotation(rotate, sign, mag, psi, theta, check_norm);
     }
+}
+
+static void test_park_rotates_by_minus_theta(void **state)
+{
+    (void)state;
+    check_random_rotations(11, mc_park_f32, -1.0, true);
 }
 
 static void test_inv_park_rotates_by_plus_theta(void **state)
 {
     (void)state;
-    test_rng_t rng = test_rng_seed(12);
-    for (int n = 0; n < N_RANDOM; n++) {
-        const double mag = test_rng_range(&rng, 0.0, 100.0);
-        const double psi = test_rng_range(&rng, -PI_D, PI_D);
-        const double theta = test_rng_range(&rng, -PI_D, PI_D);
-        float alpha, beta;
-        mc_inv_park_f32((float)(mag * cos(psi)), (float)(mag * sin(psi)),
-                        (float)sin(theta), (float)cos(theta), &alpha, &beta);
-        const double tol = 4.0 * FLT_EPS_D * mag;
-        assert_true(fabs(alpha - mag * cos(psi + theta)) <= tol);
-        assert_true(fabs(beta - mag * sin(psi + theta)) <= tol);
-    }
+    check_random_rotations(12, mc_inv_park_f32, +1.0, false);
 }
 
 /* Park then inverse Park with the firmware's own sincos (the way the fast
@@ -85,12 +96,7 @@ static void test_park_dense_angle_grid(void **state)
     const double mag = 7.5;
     const double psi = 0.3;
     for (double theta = -PI_D; theta <= PI_D; theta += 1e-4) {
-        float d, q;
-        mc_park_f32((float)(mag * cos(psi)), (float)(mag * sin(psi)),
-                    (float)sin(theta), (float)cos(theta), &d, &q);
-        const double tol = 4.0 * FLT_EPS_D * mag;
-        assert_true(fabs(d - mag * cos(psi - theta)) <= tol);
-        assert_true(fabs(q - mag * sin(psi - theta)) <= tol);
+        check_rotation(mc_park_f32, -1.0, mag, psi, theta, false);
     }
 }
 

@@ -97,11 +97,6 @@ static void test_design_gains_give_triple_pole(void **state)
     }
 }
 
-static double wrap_d(double x)
-{
-    return remainder(x, 2.0 * P001_PI);
-}
-
 /* Speed ramp w(t) = w0 + alpha t, no torque feed-forward: in the model the
  * ramp is an effective load tau = -J alpha. From estimates (theta0, 0, 0)
  * the error e = [theta - theta_hat; w - w_hat; tau - tau_hat] starts at
@@ -131,10 +126,10 @@ static void test_tracks_speed_ramp_with_designed_poles(void **state)
         for (long k = 1; k <= n; k++) {
             const double t = (double)k * P001_TS_S;
             const double theta = theta0 + NP * (w0 * t + 0.5 * alpha * t * t);
-            assert_int_equal(mc_pll_obs_step_f32(&pll, (float)wrap_d(theta), 0.0f),
+            assert_int_equal(mc_pll_obs_step_f32(&pll, (float)p001_wrap_rad(theta), 0.0f),
                              MC_OK);
             const double e[3] = {
-                wrap_d(theta - (double)mc_pll_obs_theta_e_f32(&pll)),
+                p001_wrap_rad(theta - (double)mc_pll_obs_theta_e_f32(&pll)),
                 w0 + alpha * t - (double)mc_pll_obs_omega_m_f32(&pll),
                 -P001_J_KGM2 * alpha - (double)mc_pll_obs_tau_L_f32(&pll)};
             double pred[3];
@@ -182,7 +177,7 @@ static void test_load_estimate_with_torque_feedforward(void **state)
         for (long k = 1; k <= n; k++) {
             const double t = (double)k * P001_TS_S;
             const double theta = NP * (w0 * t + 0.5 * alpha * t * t);
-            assert_int_equal(mc_pll_obs_step_f32(&pll, (float)wrap_d(theta),
+            assert_int_equal(mc_pll_obs_step_f32(&pll, (float)p001_wrap_rad(theta),
                                                  (float)tau_e),
                              MC_OK);
         }

@@ -52,11 +52,6 @@ static mat2_t a33(void)
     return A;
 }
 
-static double wrap_d(double x)
-{
-    return remainder(x, 2.0 * P001_PI);
-}
-
 /* Known trajectories with constant acceleration alpha = (kt iq - tau_L)/J,
  * wrapping through +-pi many times. The error e = [w_hat - w; tau_hat -
  * tau_L] must follow e(t) = exp(A33 t)(e0 - e_ss) + e_ss, where
@@ -103,7 +98,7 @@ static void test_error_follows_a33_poles(void **state)
             const double theta =
                 theta0 + NP * (w0 * t + 0.5 * alpha * t * t);
             assert_int_equal(
-                mc_speed_load_obs_step_f32(&obs, (float)wrap_d(theta), iq_f),
+                mc_speed_load_obs_step_f32(&obs, (float)p001_wrap_rad(theta), iq_f),
                 MC_OK);
             double pred[2];
             expm2_apply(A, t, x0, pred);
@@ -149,7 +144,7 @@ static void test_unwrap_counts_10000_turns_exactly(void **state)
             long mismatches = 0;
             for (long k = 1; k <= n; k++) {
                 const double theta = theta0 + (double)k * step;
-                const float e = (float)wrap_d(theta);
+                const float e = (float)p001_wrap_rad(theta);
                 (void)mc_unwrap_f32_step(&u, e);
                 /* exact count: theta = wrap(theta) + 2 pi n */
                 const long expect = lround((theta - (double)e) / (2.0 * P001_PI));
@@ -186,7 +181,7 @@ static void test_incremental_form_has_no_wrap_spikes(void **state)
             for (long k = 1; k <= n; k++) {
                 const double theta = 0.3 + (double)k * step;
                 assert_int_equal(
-                    mc_speed_load_obs_step_f32(&obs, (float)wrap_d(theta), 0.0f),
+                    mc_speed_load_obs_step_f32(&obs, (float)p001_wrap_rad(theta), 0.0f),
                     MC_OK);
                 max_err = fmax(max_err, fabs(mc_speed_load_obs_omega_m_f32(&obs)
                                              - w_true));
@@ -278,7 +273,7 @@ static void test_float32_matches_double_paper_form_after_1e6_rad(void **state)
     const mc_speed_load_obs_params_t p = paper_params();
     mc_speed_load_obs_f32_t obs;
     assert_int_equal(mc_speed_load_obs_init_f32(&obs, &p), MC_OK);
-    const float e0 = (float)wrap_d(traj_theta_e(0.0));
+    const float e0 = (float)p001_wrap_rad(traj_theta_e(0.0));
     assert_int_equal(mc_speed_load_obs_reset_f32(&obs, e0, 0.0f, 0.0f), MC_OK);
     paper_form_ref_t ref;
     ref_init(&ref, (double)e0, kt_f);
@@ -294,7 +289,7 @@ static void test_float32_matches_double_paper_form_after_1e6_rad(void **state)
         const double dw = TRAJ_DW * (sin(wf * t) - sin(wf * (t - P001_TS_S)));
         const float iq = (float)((P001_J_KGM2 * dw / P001_TS_S + TRAJ_TAU_L) /
                                  kt_f);
-        const float e = (float)wrap_d(theta);
+        const float e = (float)p001_wrap_rad(theta);
         assert_int_equal(mc_speed_load_obs_step_f32(&obs, e, iq), MC_OK);
         double out[2];
         ref_step(&ref, (double)e, (double)iq, out);
@@ -436,7 +431,7 @@ static void test_implausible_estimates_are_reported(void **state)
     assert_int_equal(mc_speed_load_obs_reset_f32(&obs, 0.0f, 0.0f, 0.0f), MC_OK);
     for (int k = 1; k <= 200; k++) {
         assert_int_equal(
-            mc_speed_load_obs_step_f32(&obs, (float)wrap_d(3.0 * k), 0.0f),
+            mc_speed_load_obs_step_f32(&obs, (float)p001_wrap_rad(3.0 * k), 0.0f),
             MC_OK);
     }
     assert_int_equal(mc_speed_load_obs_check_f32(&obs), MC_ERR_RANGE);

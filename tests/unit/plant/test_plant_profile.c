@@ -22,14 +22,18 @@ static void test_empty_is_zero_and_constant(void **state) {
   assert_true(sim_profile_deriv(&p, 2.0) == 0.0);
 }
 
+/* 0 until 0.1 s, step to 2 at 0.1 s, ramp to 5 at 0.4 s, hold. */
+static void step_then_ramp(sim_profile_t *p) {
+  sim_profile_clear(p);
+  const sim_profile_point_t pts[] = {{0.0, 0.0}, {0.1, 0.0}, {0.1, 2.0}, {0.4, 5.0}};
+  for (uint32_t i = 0; i < 4; ++i) p->points[i] = pts[i];
+  p->n_points = 4;
+}
+
 static void test_step_and_ramp(void **state) {
   (void)state;
   sim_profile_t p;
-  sim_profile_clear(&p);
-  /* 0 until 0.1 s, step to 2 at 0.1 s, ramp to 5 at 0.4 s, hold */
-  const sim_profile_point_t pts[] = {{0.0, 0.0}, {0.1, 0.0}, {0.1, 2.0}, {0.4, 5.0}};
-  for (uint32_t i = 0; i < 4; ++i) p.points[i] = pts[i];
-  p.n_points = 4;
+  step_then_ramp(&p);
   const char *msg = NULL;
   assert_int_equal(sim_profile_validate(&p, &msg), SIM_PROFILE_OK);
   assert_string_equal(msg, "ok");
@@ -49,11 +53,7 @@ static void test_step_and_ramp(void **state) {
 static void test_eval_on_piece(void **state) {
   (void)state;
   sim_profile_t p;
-  sim_profile_clear(&p);
-  /* 0 until 0.1 s, step to 2 at 0.1 s, ramp to 5 at 0.4 s, hold */
-  const sim_profile_point_t pts[] = {{0.0, 0.0}, {0.1, 0.0}, {0.1, 2.0}, {0.4, 5.0}};
-  for (uint32_t i = 0; i < 4; ++i) p.points[i] = pts[i];
-  p.n_points = 4;
+  step_then_ramp(&p);
   p.sines[0] = (sim_profile_sine_t){.amplitude = 0.5, .freq_hz = 1.0, .phase_rad = 0.0, .t_start_s = 0.1};
   p.n_sines = 1;
   assert_int_equal(sim_profile_validate(&p, NULL), SIM_PROFILE_OK);

@@ -10,12 +10,7 @@
 #                    they appear in, with the PWM off from that very period on
 cmake_minimum_required(VERSION 3.25)
 
-# check(<message> <if() condition words>...)
-function(check message)
-  if(NOT (${ARGN}))
-    message(FATAL_ERROR "${message}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/check.cmake)
 
 function(expect_json_type json type)
   string(JSON actual ERROR_VARIABLE err TYPE "${json}" ${ARGN})

@@ -11,11 +11,7 @@
 # NAM baseline's at every load step (paper Section 5.2).
 cmake_minimum_required(VERSION 3.25)
 
-function(check message)
-  if(NOT (${ARGN}))
-    message(FATAL_ERROR "${message}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/check.cmake)
 
 # run(<scenario name> <out var>): the metrics JSON text of a full run.
 function(run name out)

@@ -35,17 +35,24 @@ static void near(double actual, double expected)
     assert_true(fabs(actual - expected) <= 1e-9 * fmax(1.0, fabs(expected)));
 }
 
+/* The loaded scenario's motor has these parameters. */
+static void check_motor(double R_ohm, double Ld_H, double Lq_H, double psi_Wb,
+                        int pole_pairs, double J_kgm2)
+{
+    const plant_motor_params_t *m = &scn.plant.motor;
+    near(m->R_ohm, R_ohm);
+    near(m->Ld_H, Ld_H);
+    near(m->Lq_H, Lq_H);
+    near(m->psi_Wb, psi_Wb);
+    assert_int_equal(m->pole_pairs, pole_pairs);
+    near(m->J_kgm2, J_kgm2);
+}
+
 /* Paper 001 Section 5: motor and the benchmark speed/load profiles, in
  * profile time tb = t - t0 (t0: calibration and alignment before tb = 0). */
 static void check_paper001_benchmark(double t0)
 {
-    const plant_motor_params_t *m = &scn.plant.motor;
-    near(m->R_ohm, 0.225);
-    near(m->Ld_H, 3.8e-3);
-    near(m->Lq_H, 3.8e-3);
-    near(m->psi_Wb, 0.17);
-    assert_int_equal(m->pole_pairs, 3);
-    near(m->J_kgm2, 0.012);
+    check_motor(0.225, 3.8e-3, 3.8e-3, 0.17, 3, 0.012);
     near(scn.plant.inverter.f_pwm_Hz, 20e3);
     near(scn.time_offset_s, t0);
     near(scn.duration_s, 10.0 + t0);
@@ -156,13 +163,8 @@ static void paper002_case1(void **state)
 {
     (void)state;
     load("paper002_case1_foc.json");
+    check_motor(9.7, 26e-3, 26e-3, 0.084, 4, 1.35e-4);
     const plant_motor_params_t *m = &scn.plant.motor;
-    near(m->R_ohm, 9.7);
-    near(m->Ld_H, 26e-3);
-    near(m->Lq_H, 26e-3);
-    near(m->psi_Wb, 0.084);
-    assert_int_equal(m->pole_pairs, 4);
-    near(m->J_kgm2, 1.35e-4);
     near(m->B_Nm_s_rad, 7.4e-5);
     assert_int_equal(m->cogging.slots, 32);
     near(scn.plant.inverter.t_dead_s, 3e-6);
@@ -176,13 +178,10 @@ static void paper000_position(void **state)
 {
     (void)state;
     load("paper000_position_foc.json");
+    /* L = Ld = Lq = 20 mH, j = 0.55367 kg cm^2 */
+    check_motor(7.2, 20e-3, 20e-3, 0.06, 8, 0.55367e-4);
     const plant_motor_params_t *m = &scn.plant.motor;
-    near(m->Ld_H, 20e-3);
-    near(m->R_ohm, 7.2);
-    near(m->J_kgm2, 0.55367e-4); /* 0.55367 kg cm^2 */
     near(m->B_Nm_s_rad, 0.006);
-    assert_int_equal(m->pole_pairs, 8);
-    near(m->psi_Wb, 0.06);
     near(m->g3_amplitude_per_kgm2, 1e4);
     near(m->g3_omega_rad_s, 1.0);
     assert_int_equal(scn.reference.mode, MC_MODE_POSITION);
