@@ -180,6 +180,14 @@ static void measure_dq(mc_frame_t *fr, mc_telemetry_t *t)
                 &t->i_q_A);
 }
 
+/* The fault of a failed current-loop or SVPWM step: a bus at or below 0 V
+ * (reachable when v_dc_min_V = 0 disables the under-voltage check) is an
+ * under-voltage; anything else is a non-finite value. */
+static uint32_t voltage_step_fault(float v_dc_V)
+{
+    return (v_dc_V <= 0.0f) ? MC_FAULT_DC_UNDERVOLTAGE : MC_FAULT_NONFINITE;
+}
+
 /* Baseline current loop: d/q PI + decoupling; v_d, v_q of *t. */
 static uint32_t control_foc_pi(mc_app_t *app, mc_telemetry_t *t)
 {
@@ -188,11 +196,8 @@ static uint32_t control_foc_pi(mc_app_t *app, mc_telemetry_t *t)
     const mc_status_t st = mc_current_loop_step_f32(
         &app->current, t->i_d_A, t->i_q_A, t->i_d_ref_A, t->i_q_ref_A,
         omega_e, t->v_dc_V, &v);
-    if (st == MC_ERR_RANGE) {
-        return MC_FAULT_DC_UNDERVOLTAGE; /* v_dc <= 0 with v_dc_min_V = 0 */
-    }
     if (st != MC_OK) {
-        return MC_FAULT_NONFINITE;
+        return voltage_step_fault(t->v_dc_V);
     }
     t->v_d_V = v.v_d_V;
     t->v_q_V = v.v_q_V;
@@ -223,7 +228,7 @@ static uint32_t modulate(mc_app_t *app, const mc_frame_t *fr,
     mc_svpwm_out_f32_t pwm;
     if (mc_svpwm_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm) !=
         MC_OK) {
-        return MC_FAULT_NONFINITE;
+        return voltage_step_fault(t->v_dc_V);
     }
     t->v_saturated = t->v_saturated || pwm.overmodulated;
     t->v_alpha_V = pwm.v_alpha_V;

@@ -117,12 +117,43 @@ static void test_estimate_out_of_bounds_faults(void **state)
     free(e);
 }
 
+/* With the under-voltage check off (v_dc_min_V = 0), a measured bus of
+ * 0 V in RUN cannot be modulated by the paper's controller either: the
+ * fault is DC_UNDERVOLTAGE (as on the FOC path), latched in the sample the
+ * bus drops, PWM off. */
+static void test_zero_bus_with_check_off_is_undervoltage(void **state)
+{
+    (void)state;
+    plant_config_t pc;
+    mc_config_t fc;
+    bench_plant_config(&pc, 1.0, 1.0, 1.0);
+    bench_fw_config(&fc, MC_CONTROLLER_IDAPBC);
+    fc.fault_limits.v_dc_min_V = 0.0f;
+    sim_engine_t *e = fixture_engine(&pc, &fc);
+    const double t_drop = BENCH_T0_S + 0.1;
+    const sim_injection_t inj = { .kind = SIM_INJECT_VDC_MEASURED,
+                                  .t_start_s = t_drop, .t_end_s = INFINITY,
+                                  .value = 0.0 };
+    assert_int_equal(sim_engine_add_injection(e, &inj), SIM_ENGINE_OK);
+    const mc_command_t cmd = { .enable = true, .mode = MC_MODE_SPEED,
+                               .omega_m_ref_rad_s = 1.0f };
+    fixture_run_until(e, &cmd, t_drop); /* the next sample is at t_drop */
+    assert_int_equal(sim_engine_last(e)->fw.state, MC_STATE_RUN);
+    assert_int_equal(sim_engine_step(e, &cmd), SIM_ENGINE_OK);
+    const sim_trace_sample_t *s = sim_engine_last(e);
+    assert_int_equal(s->fw.state, MC_STATE_FAULT);
+    assert_int_equal(s->fw.faults_latched, MC_FAULT_DC_UNDERVOLTAGE);
+    assert_false(s->outputs_applied);
+    free(e);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_unsettled_rotor_times_out),
         cmocka_unit_test(test_load_beyond_alignment_torque_faults),
         cmocka_unit_test(test_estimate_out_of_bounds_faults),
+        cmocka_unit_test(test_zero_bus_with_check_off_is_undervoltage),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

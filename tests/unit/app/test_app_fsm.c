@@ -307,6 +307,30 @@ static void test_command_mode_validated(void **state)
     assert_int_equal(mc_app_set_command(&app, &bad), MC_ERR_PARAM);
 }
 
+/* With the under-voltage check off (v_dc_min_V = 0), a bus at 0 V in RUN
+ * cannot be modulated: the fault is DC_UNDERVOLTAGE, not a non-finite
+ * value, in current and in speed mode. */
+static void test_zero_bus_with_check_off_is_undervoltage(void **state)
+{
+    const mc_mode_t modes[] = { MC_MODE_CURRENT, MC_MODE_SPEED };
+    for (size_t m = 0; m < 2u; ++m) {
+        (void)setup(state);
+        cfg.fault_limits.v_dc_min_V = 0.0f;
+        assert_int_equal(mc_app_init(&app, &cfg), MC_OK);
+        go_to_run();
+        cmd.mode = modes[m];
+        cmd.i_q_ref_A = 1.0f;
+        cmd.omega_m_ref_rad_s = 5.0f;
+        isr();
+        assert_int_equal(tlm().state, MC_STATE_RUN);
+        g_hal.adc.v_dc_V = 0.0f;
+        isr();
+        assert_int_equal(tlm().state, MC_STATE_FAULT);
+        assert_int_equal(tlm().faults_latched, MC_FAULT_DC_UNDERVOLTAGE);
+        assert_false(g_hal.outputs_enabled);
+    }
+}
+
 /* Speed mode: the slow loop runs in the first RUN ISR of the mode and then
  * in every speed_loop_decimation-th ISR; telemetry says which; current
  * mode never runs it. */
@@ -342,6 +366,7 @@ int main(void)
         cmocka_unit_test_setup(test_current_reference_limited, setup),
         cmocka_unit_test_setup(test_command_mode_validated, setup),
         cmocka_unit_test_setup(test_slow_loop_decimation_reported, setup),
+        cmocka_unit_test(test_zero_bus_with_check_off_is_undervoltage),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
