@@ -20,6 +20,10 @@ mc_status_t mc_speed_loop_init_f32(mc_speed_loop_f32_t *sl,
         !(p->Ts_s > 0.0f)) {
         return MC_ERR_PARAM;
     }
+    const float B_over_kt = p->B_Nms / p->k_t_Nm_per_A;
+    if (!isfinite(B_over_kt)) {
+        return MC_ERR_PARAM; /* friction feed-forward gain overflows */
+    }
     const float kp = p->J_kgm2 * p->bandwidth_rad_s / p->k_t_Nm_per_A;
     const float ki = kp * p->bandwidth_rad_s / MC_SPEED_ZERO_RATIO;
     const mc_status_t st = mc_pi_f32_init(&sl->pi, kp, ki, p->Ts_s,
@@ -27,7 +31,7 @@ mc_status_t mc_speed_loop_init_f32(mc_speed_loop_f32_t *sl,
     if (st != MC_OK) {
         return st;
     }
-    sl->B_over_kt = p->B_Nms / p->k_t_Nm_per_A;
+    sl->B_over_kt = B_over_kt;
     sl->i_q_max_A = p->i_q_max_A;
     return MC_OK;
 }

@@ -71,6 +71,10 @@ static bool parse_option(int argc, char **argv, int *i, cli_args_t *out, char *m
         snprintf(msg, msg_size, "unknown option %s", opt);
         return false;
     }
+    if (*slot != NULL) {
+        snprintf(msg, msg_size, "%s given twice", opt);
+        return false;
+    }
     *slot = option_value(argc, argv, i, msg, msg_size);
     return *slot != NULL;
 }

@@ -120,10 +120,15 @@ static bool lookup(jr_object_t *obj, const char *key, const cJSON **item, char *
     if (failed(obj->err)) {
         return false;
     }
-    if (obj->n_known < JR_MAX_KEYS) {
-        obj->known[obj->n_known++] = key;
-    }
     join_key(path, obj->path, key);
+    if (obj->n_known == JR_MAX_KEYS) {
+        /* A reader declaring more keys than it can track is a bug of the
+         * reader, reported as such rather than as the user's unknown key. */
+        scenario_error_set(obj->err, SCN_ERR_INVALID, path,
+                           "at most JR_MAX_KEYS keys read from one object (reader limit)", "");
+        return false;
+    }
+    obj->known[obj->n_known++] = key;
     *item = obj->json != NULL ? cJSON_GetObjectItemCaseSensitive(obj->json, key) : NULL;
     return true;
 }

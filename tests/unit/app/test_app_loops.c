@@ -185,6 +185,12 @@ static void test_speed_loop_load_response(void **state)
     mc_speed_loop_reset_f32(&sl);
     assert_float_equal(mc_speed_loop_step_f32(&sl, 1000.0f, 0.0f), 10.0f, 0.0f);
     assert_true(isnan(mc_speed_loop_step_f32(&sl, NAN, 0.0f)));
+    /* A friction feed-forward gain B / k_t beyond float range is rejected
+     * at init (finite inputs, infinite ratio), not a fault every step. */
+    mc_speed_loop_params_t huge_b = p;
+    huge_b.B_Nms = 3e38f;
+    huge_b.k_t_Nm_per_A = 0.1f;
+    assert_int_equal(mc_speed_loop_init_f32(&sl, &huge_b), MC_ERR_PARAM);
 }
 
 static void test_position_loop(void **state)

@@ -80,6 +80,11 @@ elseif(CASE STREQUAL "bad_scenario")
     COMMAND "${PMSM_SIM}" run "${SCENARIO}" --frobnicate
     RESULT_VARIABLE rc ERROR_VARIABLE err)
   check("an unknown option should exit 2, exited ${rc}" rc EQUAL 2)
+  execute_process(
+    COMMAND "${PMSM_SIM}" run "${SCENARIO}" --json a.json --json b.json
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  check("a repeated output option should exit 2, exited ${rc}" rc EQUAL 2)
+  check("unexpected stderr: ${err}" err MATCHES "--json given twice")
 elseif(CASE STREQUAL "plot")
   execute_process(
     COMMAND "${PMSM_SIM}" run "${SCENARIO}" --set duration_s=0.2

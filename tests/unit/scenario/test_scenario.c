@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sim/json_reader.h"
 #include "sim/scenario.h"
 
 #define PI 3.14159265358979323846
@@ -526,6 +527,36 @@ static void error_line_names_file_path_expected_found(void **state)
     assert_string_equal(line, "t.json:3:23: malformed JSON: expected JSON value, found 'x}'");
 }
 
+/* The reader tracks at most JR_MAX_KEYS keys per object: reading one more
+ * is reported at that key as a reader limit, not accepted silently and
+ * not blamed on the document as an unknown key. */
+static void reader_key_limit_is_an_error(void **state)
+{
+    (void)state;
+    char text[32 * (JR_MAX_KEYS + 1) + 8] = "{";
+    char key_names[JR_MAX_KEYS + 1][16];
+    size_t n = 1;
+    for (int k = 0; k <= (int)JR_MAX_KEYS; ++k) {
+        snprintf(key_names[k], sizeof key_names[k], "k%d", k);
+        n += (size_t)snprintf(text + n, sizeof text - n, "%s\"k%d\": %d", k ? ", " : "", k, k);
+    }
+    snprintf(text + n, sizeof text - n, "}");
+    cJSON *json = cJSON_Parse(text);
+    assert_non_null(json);
+    scn_error_t e = { 0 };
+    jr_object_t root;
+    assert_true(jr_root(&root, json, &e));
+    double v = -1.0;
+    for (int k = 0; k < (int)JR_MAX_KEYS; ++k) {
+        assert_true(jr_number(&root, key_names[k], JR_ANY_FINITE, &v));
+        assert_true(v == (double)k);
+    }
+    assert_false(jr_number(&root, key_names[JR_MAX_KEYS], JR_ANY_FINITE, &v));
+    assert_int_equal(e.code, SCN_ERR_INVALID);
+    assert_string_equal(e.path, key_names[JR_MAX_KEYS]);
+    cJSON_Delete(json);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -548,6 +579,7 @@ int main(void)
         cmocka_unit_test(bad_override_syntax),
         cmocka_unit_test(unreadable_file),
         cmocka_unit_test(error_line_names_file_path_expected_found),
+        cmocka_unit_test(reader_key_limit_is_an_error),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -27,7 +27,7 @@
 
 #include "sim/scenario_error.h"
 
-#define JR_MAX_KEYS 48 /* keys a single object may define */
+#define JR_MAX_KEYS 64 /* keys a reader may read from one object */
 
 typedef struct {
     const cJSON *json;            /* the object, NULL when an optional one is absent */
