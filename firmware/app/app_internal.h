@@ -45,9 +45,14 @@ uint32_t mc_app_sensorless_align(mc_app_t *app, float i_alpha_A,
                                  mc_align_state_t *state);
 
 /* IDA-PBC (11): v_d, v_q of *t from its measured i_d, i_q (estimated
- * frame), omega_m_ref, omega_m and tau_L_hat (limited to kt i_max);
- * sets the i_d/i_q reference telemetry to (0, tau_hat / kt). Fault bits
+ * frame), omega_m_ref, omega_m and tau_c = tau_L_hat (+ the integral
+ * action tau_I when idapbc_integral_enabled; tau_c limited to kt i_max);
+ * sets the i_d/i_q reference telemetry to (0, tau_c / kt). Fault bits
  * (NONFINITE). Interrupt context: yes. */
 uint32_t mc_app_idapbc_voltages(mc_app_t *app, mc_telemetry_t *t);
+
+/* Zero the IDA-PBC integral action (start of RUN, mode change).
+ * Interrupt context: yes. */
+void mc_app_idapbc_reset(mc_app_t *app);
 
 #endif /* MC_APP_INTERNAL_H */

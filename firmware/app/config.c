@@ -74,6 +74,14 @@ void mc_config_init_default(mc_config_t *cfg)
         .delay_comp_enabled = true,
         .delay_periods = MC_DELAY_PERIODS_DEFAULT,
         .idapbc_r_ohm = 0.0f,
+        /* Integral action off (the paper's scheme). When on: slow pole
+         * 10 1/s (the pair at -87.5 1/s, mc/idapbc.h; offsets decay as
+         * e^(-10 t)); tau_I limited to 2.5 N m, a third of kt i_max and
+         * twice what flux +15 % needs at 120 rpm (0.15 n_p Phi w r^-1 kt
+         * = 1.3 N m, full-information estimate). */
+        .idapbc_integral_enabled = false,
+        .idapbc_integral_pole_rad_s = 10.0f,
+        .idapbc_integral_tau_max_Nm = 2.5f,
         /* 2 A (1.53 N m of alignment torque per electrical rad: omega_n
          * = sqrt(n_p kt I / J) = 19.6 rad/s), ramped over 0.1 s;
          * critically damped (k_d = 0.204 A per electrical rad/s), the
@@ -117,7 +125,9 @@ static mc_status_t validate_sensorless(const mc_config_t *c)
     }
     if (!(c->est_omega_max_rad_s > 0.0f) || !(c->est_tau_max_Nm > 0.0f) ||
         !(c->est_flux_ratio_min > 0.0f) || !(c->est_flux_ratio_min < 1.0f) ||
-        !(c->est_flux_ratio_max > 1.0f) || c->idapbc_r_ohm < 0.0f) {
+        !(c->est_flux_ratio_max > 1.0f) || c->idapbc_r_ohm < 0.0f ||
+        !(c->idapbc_integral_pole_rad_s > 0.0f) ||
+        !(c->idapbc_integral_tau_max_Nm > 0.0f)) {
         return MC_ERR_PARAM;
     }
     if (!(c->align_current_A > 0.0f) || !(c->align_current_A < c->i_max_A) ||
@@ -146,6 +156,7 @@ mc_status_t mc_config_validate(const mc_config_t *c)
         c->speed_obs_a1, c->speed_obs_a2, c->sensorless_pll_bandwidth_rad_s,
         c->est_omega_max_rad_s, c->est_tau_max_Nm, c->est_flux_ratio_min,
         c->est_flux_ratio_max, c->delay_periods, c->idapbc_r_ohm,
+        c->idapbc_integral_pole_rad_s, c->idapbc_integral_tau_max_Nm,
         c->align_current_A, c->align_ramp_s, c->align_time_s,
         c->align_angle_e_rad, c->align_damping_ratio, c->align_i_q_max_A,
         c->align_settle_speed_e_rad_s, c->align_settle_time_s,

@@ -77,6 +77,9 @@ static void start_run(mc_app_t *app)
 {
     mc_current_loop_reset_f32(&app->current);
     mc_speed_loop_reset_f32(&app->speed);
+    mc_app_idapbc_reset(app);
+    app->v_d_last_V = 0.0f;
+    app->v_q_last_V = 0.0f;
     app->slow_counter = 0u;
     app->i_d_ref_A = 0.0f;
     app->i_q_ref_A = 0.0f;
@@ -135,6 +138,22 @@ static void references(mc_app_t *app, const mc_command_t *cmd,
     if (cmd->mode != app->mode) {
         mc_speed_loop_reset_f32(&app->speed);
         app->slow_counter = 0u;
+        if (app->cfg.controller == MC_CONTROLLER_IDAPBC) {
+            if (cmd->mode == MC_MODE_CURRENT) {
+                /* The current loop takes over from (11), its integrators
+                 * stale (ALIGN or an earlier current mode): restart them
+                 * at (11)'s last voltage, bumpless. (FOC_PI: the current
+                 * loop runs in every mode and simply continues.) */
+                mc_current_loop_preset_f32(
+                    &app->current, app->v_d_last_V, app->v_q_last_V,
+                    t->i_d_A, t->i_q_A,
+                    (float)app->cfg.pole_pairs * t->omega_m_rad_s);
+            } else if (app->mode == MC_MODE_CURRENT) {
+                /* (11) takes over: its integral action starts at 0;
+                 * kept between speed and position ((11) runs in both) */
+                mc_app_idapbc_reset(app);
+            }
+        }
         app->mode = cmd->mode;
     }
     if (cmd->mode == MC_MODE_CURRENT) {
@@ -272,6 +291,8 @@ static uint32_t run(mc_app_t *app, const mc_command_t *cmd,
         faults = MC_FAULT_NONFINITE; /* unreachable: init validates it */
         break;
     }
+    app->v_d_last_V = t->v_d_V;
+    app->v_q_last_V = t->v_q_V;
     if (faults == MC_FAULT_NONE) {
         faults = modulate(app, fr, t);
     }

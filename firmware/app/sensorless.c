@@ -5,6 +5,28 @@
 #include "app_internal.h"
 #include "mc/angle.h"
 
+/* Integral action of the IDA-PBC (mc/idapbc.h): a PI on w_ref - w_hat
+ * whose output tau_I is limited to +-idapbc_integral_tau_max_Nm (the
+ * integrator too: mc/pi.h's clamping anti-windup). Disabled: kp = ki = 0
+ * is not a valid mc_pi (and never stepped), the instance is zeroed. */
+static mc_status_t idapbc_integral_init(mc_app_t *app, const mc_config_t *c,
+                                        const mc_idapbc_params_t *ip)
+{
+    app->idapbc_int = (mc_pi_f32_t){ 0 };
+    if (!c->idapbc_integral_enabled) {
+        return MC_OK;
+    }
+    float kp;
+    float ki;
+    const mc_status_t st = mc_idapbc_integral_design_f32(
+        ip, c->J_kgm2, c->idapbc_integral_pole_rad_s, &kp, &ki);
+    if (st != MC_OK) {
+        return st;
+    }
+    const float lim = c->idapbc_integral_tau_max_Nm;
+    return mc_pi_f32_init(&app->idapbc_int, kp, ki, app->Ts_s, -lim, lim);
+}
+
 mc_status_t mc_app_sensorless_init(mc_app_t *app, const mc_config_t *c)
 {
     const float Ts = app->Ts_s;
@@ -52,6 +74,10 @@ mc_status_t mc_app_sensorless_init(mc_app_t *app, const mc_config_t *c)
         .r_ohm = r,
     };
     st = mc_idapbc_init_f32(&app->idapbc, &ip);
+    if (st != MC_OK) {
+        return st;
+    }
+    st = idapbc_integral_init(app, c, &ip);
     if (st != MC_OK) {
         return st;
     }
@@ -187,13 +213,24 @@ uint32_t mc_app_sensorless_align(mc_app_t *app, float i_alpha_A, float i_beta_A,
     return (o.state == MC_ALIGN_TIMEOUT) ? MC_FAULT_ESTIMATE : MC_FAULT_NONE;
 }
 
+void mc_app_idapbc_reset(mc_app_t *app)
+{
+    mc_pi_f32_reset(&app->idapbc_int, 0.0f);
+}
+
 uint32_t mc_app_idapbc_voltages(mc_app_t *app, mc_telemetry_t *t)
 {
-    /* The current the controller steers to is i_q* = tau_hat / kt (Remark
-     * 2): limited to i_max here (a documented limit, not a clamp of a
-     * fault: tau_hat beyond est_tau_max_Nm is MC_FAULT_ESTIMATE). */
+    /* The current the controller steers to is i_q* = tau_c / kt (Remark
+     * 2), tau_c = tau_hat (+ tau_I with the integral action, mc/idapbc.h;
+     * a non-finite speed makes tau_I NaN, which (11) reports): limited to
+     * i_max here (a documented limit, not a clamp of a fault: tau_hat
+     * beyond est_tau_max_Nm is MC_FAULT_ESTIMATE). */
     const float tau_lim = app->kt_Nm_per_A * app->cfg.i_max_A;
     float tau = t->tau_L_hat_Nm;
+    if (app->cfg.idapbc_integral_enabled) {
+        tau += mc_pi_f32_step(&app->idapbc_int,
+                              t->omega_m_ref_rad_s - t->omega_m_rad_s);
+    }
     tau = (tau > tau_lim) ? tau_lim : ((tau < -tau_lim) ? -tau_lim : tau);
     t->i_d_ref_A = 0.0f;
     t->i_q_ref_A = tau / app->kt_Nm_per_A;

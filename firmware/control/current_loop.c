@@ -72,6 +72,16 @@ void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl)
     mc_pi_f32_reset(&cl->pi_q, 0.0f);
 }
 
+void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
+                                float v_q_V, float i_d_A, float i_q_A,
+                                float omega_e_rad_s)
+{
+    /* the feed-forward of mc_current_loop_step_f32 */
+    mc_pi_f32_reset(&cl->pi_d, v_d_V + omega_e_rad_s * cl->Lq_H * i_q_A);
+    mc_pi_f32_reset(&cl->pi_q,
+                    v_q_V - omega_e_rad_s * (cl->Ld_H * i_d_A + cl->psi_Wb));
+}
+
 /* One axis: the PI output is limited to the room the feed-forward leaves
  * within +-v_lim_V (anti-windup, mc/pi.h), *v_V = PI(error) + ff. *sat
  * tells that the PI sits on a limit. MC_ERR_NONFINITE when the limits are

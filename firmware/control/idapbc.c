@@ -61,3 +61,45 @@ mc_status_t mc_idapbc_step_f32(const mc_idapbc_f32_t *ctl, float i_d_A,
     *v_q_V = v_q;
     return MC_OK;
 }
+
+mc_status_t mc_idapbc_integral_design_f32(const mc_idapbc_params_t *p,
+                                          float J_kgm2, float pole_rad_s,
+                                          float *kp_Nms_per_rad,
+                                          float *ki_Nm_per_rad)
+{
+    mc_idapbc_f32_t scratch;
+    const mc_status_t st = mc_idapbc_init_f32(&scratch, p);
+    if (st != MC_OK) {
+        return st;
+    }
+    if (!isfinite(J_kgm2) || !isfinite(pole_rad_s)) {
+        return MC_ERR_NONFINITE;
+    }
+    if (!(J_kgm2 > 0.0f) || !(pole_rad_s > 0.0f)) {
+        return MC_ERR_PARAM;
+    }
+    /* L > 0, J > 0 checked: a = r / L, bc = n_p Phi kt / (L J); a > 0 */
+    const float a = p->r_ohm / p->L_H;
+    const float bc = (float)p->pole_pairs * p->flux_Wb * p->kt_Nm_per_A /
+                     (p->L_H * J_kgm2);
+    const float alpha = a - pole_rad_s;
+    const float beta = alpha * alpha * bc / (a * a); /* damping ratio kept */
+    const float kp = J_kgm2 * (beta + alpha * pole_rad_s - bc) / a;
+    const float ki = J_kgm2 * beta * pole_rad_s / a;
+    if (!isfinite(a) || !isfinite(bc) || !isfinite(beta) || !isfinite(kp) ||
+        !isfinite(ki) || !(alpha > 0.0f)) {
+        return MC_ERR_PARAM;
+    }
+    /* slowest rate of s^2 + alpha s + beta: alpha / 2 when complex,
+     * (alpha - sqrt(alpha^2 - 4 beta)) / 2 when real (radicand >= 0 in
+     * that branch) */
+    const float disc = alpha * alpha - 4.0f * beta;
+    const float slow = (disc > 0.0f) ? 0.5f * (alpha - sqrtf(disc))
+                                     : 0.5f * alpha;
+    if (!(slow >= 2.0f * pole_rad_s) || kp < 0.0f || !(ki > 0.0f)) {
+        return MC_ERR_PARAM;
+    }
+    *kp_Nms_per_rad = kp;
+    *ki_Nm_per_rad = ki;
+    return MC_OK;
+}

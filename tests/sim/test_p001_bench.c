@@ -126,6 +126,7 @@ bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc,
     double t_align_start = -1.0;
     rms_t sp120 = { 0 }, sp50 = { 0 }, th50 = { 0 }, th120 = { 0 };
     rms_t tau120 = { 0 };
+    double sum_ew120 = 0.0, sum_west120 = 0.0;
     bool reached_run = false;
     const double t_end = BENCH_T0_S + tb_end_s;
     while (sim_engine_time_s(e) < t_end - 0.5 * sim_engine_period_s(e)) {
@@ -157,6 +158,9 @@ bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc,
             rms_add(&sp120, ew);
             rms_add(&th120, eth);
             rms_add(&tau120, etau);
+            sum_ew120 += ew;
+            sum_west120 += (double)s->fw.omega_m_rad_s * BENCH_RPM_PER_RAD_S -
+                           w_rpm;
         }
         if (in(tb, 1.5, 2.5)) {
             rms_add(&sp50, ew);
@@ -193,6 +197,10 @@ bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc,
     r.rms_angle_err_50_rad = rms_get(&th50);
     r.rms_angle_err_120_rad = rms_get(&th120);
     r.rms_tau_err_120_Nm = rms_get(&tau120);
+    r.mean_speed_err_120_rpm =
+        (sp120.n > 0u) ? sum_ew120 / (double)sp120.n : NAN;
+    r.mean_speed_est_err_120_rpm =
+        (sp120.n > 0u) ? sum_west120 / (double)sp120.n : NAN;
     free(e);
     printf("[%s] ALIGN %.4f s, then true angle err %.3g rad, w %.3g rad/s, "
            "peak current in ALIGN %.4g A\n", label, r.t_align_s,
@@ -201,6 +209,9 @@ bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc,
     printf("[%s] speed RMS err: 50 rpm %.4g rpm, 120 rpm %.4g rpm; max "
            "|err| moving %.4g rpm\n", label, r.rms_speed_err_50_rpm,
            r.rms_speed_err_120_rpm, r.max_speed_err_moving_rpm);
+    printf("[%s] at 120 rpm: mean speed err (ref - w) %.4g rpm, mean "
+           "estimate err (w_hat - w) %.4g rpm\n", label,
+           r.mean_speed_err_120_rpm, r.mean_speed_est_err_120_rpm);
     printf("[%s] load-step dips: tb=1 s %.4g rpm, tb=5 s %.4g rpm\n", label,
            r.dip_load_1s_rpm, r.dip_load_5s_rpm);
     printf("[%s] angle RMS err: 50 rpm %.3g rad, 120 rpm %.3g rad; max "

@@ -31,6 +31,8 @@
 typedef struct {
     double rms_speed_err_120_rpm;   /* tb in [5.5, 7) */
     double rms_speed_err_50_rpm;    /* tb in [1.5, 2.5) */
+    double mean_speed_err_120_rpm;  /* mean of ref - w, tb in [5.5, 7) */
+    double mean_speed_est_err_120_rpm; /* mean of w_hat - w, same window */
     double dip_load_1s_rpm;         /* max (ref - w) in tb [1, 1.5) */
     double dip_load_5s_rpm;         /* max (ref - w) in tb [5, 5.5) */
     double rms_angle_err_50_rad;    /* tb in [1.5, 3), electrical */

@@ -59,6 +59,7 @@
 #include "mc/faults.h"
 #include "mc/flux_observer.h"
 #include "mc/idapbc.h"
+#include "mc/pi.h"
 #include "mc/pll_observer.h"
 #include "mc/position_loop.h"
 #include "mc/speed_load_observer.h"
@@ -149,6 +150,13 @@ typedef struct {
                                      periods, [0.5, 1.5] (mc/delay_comp.h) */
     float idapbc_r_ohm;           /* damping r of (11); 0 = critically
                                      damped (mc_idapbc_critical_damping_f32) */
+    bool idapbc_integral_enabled; /* integral action on w_ref - w_hat added
+                                     to the torque reference of (11)
+                                     (mc/idapbc.h; beyond the paper, default
+                                     false = the paper's scheme) */
+    float idapbc_integral_pole_rad_s; /* its slow closed-loop pole p, 1/s,
+                                     > 0 (mc_idapbc_integral_design_f32) */
+    float idapbc_integral_tau_max_Nm; /* anti-windup: |tau_I| limit, > 0 */
     /* sensorless start (ALIGN state, mc/align.h) */
     float align_current_A;        /* vector current, (0, i_max_A) */
     float align_ramp_s;           /* phase-1 linear ramp, [0, align_time_s] */
@@ -241,6 +249,9 @@ typedef struct {
     mc_speed_load_obs_f32_t speed_obs;
     mc_pll_obs_f32_t pll_obs;
     mc_idapbc_f32_t idapbc;
+    mc_pi_f32_t idapbc_int;       /* integral action tau_I (mc/idapbc.h) */
+    float v_d_last_V, v_q_last_V; /* voltage of the previous RUN ISR (the
+                                     current loop's bumpless start) */
     mc_delay_comp_f32_t delay_comp;
     mc_applied_voltage_f32_t v_applied; /* commands -> voltage over the
                                            last sample interval */

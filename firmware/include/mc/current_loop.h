@@ -71,6 +71,16 @@ mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
 /* Zero both integrators. Callable from interrupt context: yes. */
 void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl);
 
+/* Bumpless take-over from another voltage source: set the integrators so
+ * that a step with zero current error at these currents (A) and omega_e
+ * (electrical rad/s) outputs (v_d_V, v_q_V), i.e. I_d = v_d - ff_d,
+ * I_q = v_q - ff_q (the next step clamps them into its limits; non-finite
+ * arguments make the next step's output non-finite: the caller's fault).
+ * Callable from interrupt context: yes. */
+void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
+                                float v_q_V, float i_d_A, float i_q_A,
+                                float omega_e_rad_s);
+
 /* One sample: currents and references in A, omega_e in rad/s (electrical),
  * v_dc in V. The caller checks its inputs for finiteness; v_dc_V must be
  * > 0 (MC_ERR_RANGE otherwise, outputs zeroed, integrators untouched).

@@ -36,6 +36,35 @@
  * blocks A22, A33 add their own poles (the closed loop is block triangular,
  * proof of Proposition 1).
  *
+ * Optional integral action (beyond the paper; mc_idapbc_integral_design_f32).
+ * Under a plant/model mismatch (R, Phi) (11) leaves a steady speed offset:
+ * it has no integrator. The correction enters where (11) already carries
+ * the torque the loop must produce, the reference i_q* = tau_c / kt of
+ * Remark 2 (both components of (11)): tau_c = tau_hat + tau_I with
+ *   tau_I = K_P e + K_I integral(e dt),   e = w_ref - w_hat,
+ * so (11) keeps its structure and, at the nominal point in steady state
+ * (e = 0 on average, integrator at its reset value 0 there), is exactly the
+ * paper's law. Linearised full-information loop at w* = 0 (q current,
+ * speed, integrator; row 2 of (40) with i_q* moved by tau_I / kt, and
+ * J w' = kt i_q - tau_L):
+ *   (L s + r) J s / kt + r C(s) / kt + n_p Phi = 0,  C = K_P + K_I / s
+ *   =>  s^3 + a s^2 + (b c + a K_P / J) s + a K_I / J = 0
+ * (the d axis keeps its pole -a). A pure integrator (K_P = 0) would split
+ * the designed critically damped pair (project motor, kt = 1.5 n_p Phi,
+ * critical r = 0.703 ohm, a = 185 1/s, pair -92.5 twice: for p = 10 1/s
+ * it moves to -58 and -117); with K_P the cubic is placed at
+ *   (s + p)(s^2 + (a - p) s + beta),  beta = (a - p)^2 b c / a^2,
+ * i.e. one slow real pole p (the integrator's; "a slow pole well below the
+ * IDA-PBC poles") and the IDA-PBC pair at the damping ratio it was designed
+ * with (a / (2 sqrt(b c)); 1 for the critical r), its rate reduced by p/2:
+ *   K_P = J (beta + (a - p) p - b c) / a,   K_I = J beta p / a.
+ * Required: the pair's slowest rate >= 2 p, K_P >= 0 (damping ratio of the
+ * design above about 0.71 for small p). Project motor, p = 10 1/s: pair
+ * -87.5 (double), K_P = 0.0551 N m s/rad, K_I = 4.97 N m/rad (the PI's
+ * zero K_I / K_P = 90 1/s sits at the pair, whose damping it supplies;
+ * the integrator's pole is the slow one). Discrete (Ts = 50 us) and
+ * sensorless (w_hat from (15)) effects: measured, tests/sim.
+ *
  * No voltage limit here: the modulator limits and reports saturation.
  * Units: A, V, ohm, H, Wb, N m, kg m^2, rad/s (MECHANICAL speeds).
  */
@@ -83,5 +112,16 @@ mc_status_t mc_idapbc_step_f32(const mc_idapbc_f32_t *ctl, float i_d_A,
                                float i_q_A, float omega_m_ref_rad_s,
                                float omega_m_hat_rad_s, float tau_L_hat_Nm,
                                float *v_d_V, float *v_q_V);
+
+/* Integral-action gains (see above) for the slow pole p = pole_rad_s
+ * (1/s) with this controller's parameters and the nominal inertia J:
+ * *kp_Nms_per_rad = K_P (N m per rad/s), *ki_Nm_per_rad = K_I (N m per
+ * rad/s per s). MC_ERR_NONFINITE / MC_ERR_PARAM (outputs untouched) for
+ * invalid parameters, p <= 0, or a p the design cannot place (pair slower
+ * than 2 p, K_P < 0). Not for interrupt context (design time). */
+mc_status_t mc_idapbc_integral_design_f32(const mc_idapbc_params_t *p,
+                                          float J_kgm2, float pole_rad_s,
+                                          float *kp_Nms_per_rad,
+                                          float *ki_Nm_per_rad);
 
 #endif /* MC_IDAPBC_H */

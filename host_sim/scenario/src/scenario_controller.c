@@ -55,6 +55,9 @@ static const field_t controller_fields[] = {
     { "delay_comp_enabled", AT(delay_comp_enabled), FIELD_BOOL, 0, 0, false },
     F32("delay_periods", delay_periods, 0.5, 1.5, false),
     F32("idapbc_r_ohm", idapbc_r_ohm, 0.0, 1e6, false),
+    { "idapbc_integral_enabled", AT(idapbc_integral_enabled), FIELD_BOOL, 0, 0, false },
+    F32("idapbc_integral_pole_rad_s", idapbc_integral_pole_rad_s, 0.0, 1e6, true),
+    F32("idapbc_integral_tau_max_Nm", idapbc_integral_tau_max_Nm, 0.0, 1e6, true),
     /* sensorless start (ALIGN state) */
     F32("align_current_A", align_current_A, 0.0, 1e4, true),
     F32("align_ramp_s", align_ramp_s, 0.0, 10.0, false),

@@ -319,6 +319,62 @@ static void test_config_and_nonfinite(void **state)
     assert_true(vd == 1.0f && vq == 2.0f);
 }
 
+/* Integral action (mc/idapbc.h): with the returned K_P, K_I the
+ * linearised full-information loop at w* = 0,
+ *   s^3 + a s^2 + (b c + a K_P / J) s + a K_I / J,
+ * must equal (s + p)(s + (a - p)/2)^2 for the critical r (damping ratio 1
+ * kept); the header's numbers for the project motor; bad p rejected. */
+static void test_integral_design_places_poles(void **state)
+{
+    (void)state;
+    const double kt = 1.5 * NP * PHI;
+    const double r = critical_r(kt);
+    const mc_idapbc_params_t ip = {
+        .R_ohm = (float)RS, .L_H = (float)LS, .flux_Wb = (float)PHI,
+        .pole_pairs = P001_NP, .kt_Nm_per_A = (float)kt, .r_ohm = (float)r,
+    };
+    const double a = r / LS;
+    const double bc = NP * PHI * kt / (LS * JM);
+    for (double p = 1.0; p <= 35.0; p += 3.0) {
+        float kp = -1.0f;
+        float ki = -1.0f;
+        assert_int_equal(mc_idapbc_integral_design_f32(&ip, (float)JM,
+                                                       (float)p, &kp, &ki),
+                         MC_OK);
+        const double c1 = bc + a * (double)kp / JM;
+        const double c0 = a * (double)ki / JM;
+        const double q = 0.5 * (a - p); /* double pole -q */
+        assert_float_equal(c1, q * q + 2.0 * q * p, 1e-5 * c1);
+        assert_float_equal(c0, q * q * p, 1e-5 * c0);
+        assert_float_equal(a, 2.0 * q + p, 1e-9 * a); /* s^2: a unchanged */
+    }
+    float kp;
+    float ki;
+    assert_int_equal(
+        mc_idapbc_integral_design_f32(&ip, (float)JM, 10.0f, &kp, &ki), MC_OK);
+    assert_float_equal(kp, 0.0551, 2e-4);
+    assert_float_equal(ki, 4.97, 0.01);
+    /* the pair (a - p)/2 must stay >= 2 p: p <= a / 5 = 37 1/s */
+    assert_int_equal(
+        mc_idapbc_integral_design_f32(&ip, (float)JM, 38.0f, &kp, &ki),
+        MC_ERR_PARAM);
+    assert_int_equal(
+        mc_idapbc_integral_design_f32(&ip, (float)JM, 0.0f, &kp, &ki),
+        MC_ERR_PARAM);
+    assert_int_equal(
+        mc_idapbc_integral_design_f32(&ip, (float)JM, NAN, &kp, &ki),
+        MC_ERR_NONFINITE);
+    assert_int_equal(
+        mc_idapbc_integral_design_f32(&ip, 0.0f, 10.0f, &kp, &ki),
+        MC_ERR_PARAM);
+    /* damping ratio 0.5 (r / 2): K_P would be negative, rejected */
+    mc_idapbc_params_t low = ip;
+    low.r_ohm = (float)(0.5 * r);
+    assert_int_equal(
+        mc_idapbc_integral_design_f32(&low, (float)JM, 10.0f, &kp, &ki),
+        MC_ERR_PARAM);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +383,7 @@ int main(void)
         cmocka_unit_test(test_closed_loop_matches_linearisation_at_speed),
         cmocka_unit_test(test_equilibrium_voltage),
         cmocka_unit_test(test_config_and_nonfinite),
+        cmocka_unit_test(test_integral_design_places_poles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

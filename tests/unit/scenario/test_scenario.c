@@ -394,6 +394,25 @@ static void sensorless_controller_keys(void **state)
     assert_true(c->align_damping_ratio == 0.7f && c->align_i_q_max_A == 1.5f &&
                 c->align_settle_speed_e_rad_s == 0.01f &&
                 c->align_settle_time_s == 0.1f);
+    /* The integral action (beyond the paper) with the critical damping r:
+     * its gain design needs a well-damped IDA-PBC pair (r = 0.5 ohm is
+     * below critical here and is rejected with the integral on). */
+    const char *integral[] = {
+        "controller.type=idapbc", "controller.angle_source=flux_observer",
+        "controller.idapbc_integral_enabled=true",
+        "controller.idapbc_integral_pole_rad_s=15",
+        "controller.idapbc_integral_tau_max_Nm=2",
+    };
+    assert_true(load(valid_doc, integral, sizeof(integral) / sizeof(integral[0])));
+    assert_true(scn.controller.idapbc_integral_enabled &&
+                scn.controller.idapbc_integral_pole_rad_s == 15.0f &&
+                scn.controller.idapbc_integral_tau_max_Nm == 2.0f);
+    const char *underdamped[] = {
+        "controller.type=idapbc", "controller.angle_source=flux_observer",
+        "controller.idapbc_r_ohm=0.5", "controller.idapbc_integral_enabled=true",
+    };
+    assert_false(load(valid_doc, underdamped, sizeof(underdamped) / sizeof(underdamped[0])));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
 
     /* ranges of the keys themselves */
     const char *ratio[] = { "controller.est_flux_ratio_min=1.2" };
