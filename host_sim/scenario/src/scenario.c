@@ -6,12 +6,13 @@
 
 #include "scenario_sections.h"
 #include "sim/scenario_document.h"
+#include "sim/scenario_extends.h"
 
 bool scenario_from_json(const cJSON *root_json, scenario_t *out, scn_error_t *err)
 {
     jr_object_t root;
     jr_object_t output;
-    char description[1024];
+    char description[SCENARIO_DESCRIPTION_MAX];
     uint64_t version;
     memset(out, 0, sizeof(*out));
     plant_config_default(&out->plant);
@@ -55,6 +56,7 @@ static void default_name(scenario_t *s, const char *file)
 static bool finish_load(cJSON *doc, const char *file, const char *const *overrides,
                         size_t n_overrides, scenario_t *out, scn_error_t *err)
 {
+    doc = doc != NULL ? scenario_extends_resolve(doc, file, err) : NULL;
     bool ok = doc != NULL;
     for (size_t i = 0; ok && i < n_overrides; i++) {
         ok = scenario_document_set(doc, overrides[i], err);

@@ -10,11 +10,6 @@
 #define MAX_FILE_BYTES (16L * 1024L * 1024L)
 #define SNIPPET_CHARS 24
 
-static void set_file(scn_error_t *err, const char *file)
-{
-    snprintf(err->file, sizeof(err->file), "%s", file != NULL ? file : "");
-}
-
 /* Line/column (1-based) of pos in text, and the text found there. */
 static void syntax_error(const char *text, const char *pos, scn_error_t *err)
 {
@@ -47,7 +42,7 @@ static void syntax_error(const char *text, const char *pos, scn_error_t *err)
 
 cJSON *scenario_document_parse(const char *text, const char *file, scn_error_t *err)
 {
-    set_file(err, file);
+    scenario_error_set_file(err, file);
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, true);
     if (root == NULL) {
@@ -58,7 +53,7 @@ cJSON *scenario_document_parse(const char *text, const char *file, scn_error_t *
 
 cJSON *scenario_document_load(const char *file, scn_error_t *err)
 {
-    set_file(err, file);
+    scenario_error_set_file(err, file);
     FILE *f = fopen(file, "rb");
     if (f == NULL) {
         scenario_error_set(err, SCN_ERR_IO, NULL, "a readable JSON file", strerror(errno));

@@ -27,6 +27,11 @@ void scenario_error_set(scn_error_t *err, scn_status_t code, const char *path,
     copy_text(err->found, sizeof(err->found), found);
 }
 
+void scenario_error_set_file(scn_error_t *err, const char *file)
+{
+    copy_text(err->file, sizeof(err->file), file);
+}
+
 const char *scenario_error_class_str(scn_status_t code)
 {
     switch (code) {

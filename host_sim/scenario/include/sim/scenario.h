@@ -24,6 +24,7 @@
 #include "sim/scenario_error.h"
 
 #define SCENARIO_NAME_MAX 64
+#define SCENARIO_DESCRIPTION_MAX 1024
 #define SCENARIO_MAX_DURATION_S 36000.0
 #define SCENARIO_MAX_LOAD_STEPS 8
 #define SCENARIO_MAX_WINDOWS 8
@@ -88,11 +89,14 @@ const char *scenario_mode_name(mc_mode_t mode);
  * Returns false with the first error (key path, expected, found). */
 bool scenario_from_json(const cJSON *root, scenario_t *out, scn_error_t *err);
 
-/* Load file, apply the "KEY.PATH=VALUE" overrides in order, validate, map. */
+/* Load file, resolve its "extends" (sim/scenario_extends.h: base + the
+ * file's "set"), apply the "KEY.PATH=VALUE" overrides in order, validate,
+ * map. */
 bool scenario_load(const char *file, const char *const *overrides, size_t n_overrides,
                    scenario_t *out, scn_error_t *err);
 
-/* Same from a string (tests). file may be NULL. */
+/* Same from a string (tests). file may be NULL; a relative "extends" is
+ * taken from file's directory. */
 bool scenario_load_text(const char *text, const char *file, const char *const *overrides,
                         size_t n_overrides, scenario_t *out, scn_error_t *err);
 

@@ -54,6 +54,9 @@ void scenario_error_clear(scn_error_t *err);
 void scenario_error_set(scn_error_t *err, scn_status_t code, const char *path,
                         const char *expected, const char *found);
 
+/* Name the source file of what follows (NULL: ""); kept by later errors. */
+void scenario_error_set_file(scn_error_t *err, const char *file);
+
 const char *scenario_error_class_str(scn_status_t code);
 
 /* One line, e.g.
