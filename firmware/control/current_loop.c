@@ -72,14 +72,25 @@ void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl)
     mc_pi_f32_reset(&cl->pi_q, 0.0f);
 }
 
+/* Decoupling feed-forward (rotor-frame voltage equations):
+ * ff_d = -omega_e Lq i_q, ff_q = omega_e (Ld i_d + psi). */
+static void feed_forward(const mc_current_loop_f32_t *cl, float i_d_A,
+                         float i_q_A, float omega_e_rad_s, float *ff_d_V,
+                         float *ff_q_V)
+{
+    *ff_d_V = -omega_e_rad_s * cl->Lq_H * i_q_A;
+    *ff_q_V = omega_e_rad_s * (cl->Ld_H * i_d_A + cl->psi_Wb);
+}
+
 void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
                                 float v_q_V, float i_d_A, float i_q_A,
                                 float omega_e_rad_s)
 {
-    /* the feed-forward of mc_current_loop_step_f32 */
-    mc_pi_f32_reset(&cl->pi_d, v_d_V + omega_e_rad_s * cl->Lq_H * i_q_A);
-    mc_pi_f32_reset(&cl->pi_q,
-                    v_q_V - omega_e_rad_s * (cl->Ld_H * i_d_A + cl->psi_Wb));
+    float ff_d;
+    float ff_q;
+    feed_forward(cl, i_d_A, i_q_A, omega_e_rad_s, &ff_d, &ff_q);
+    mc_pi_f32_reset(&cl->pi_d, v_d_V - ff_d);
+    mc_pi_f32_reset(&cl->pi_q, v_q_V - ff_q);
 }
 
 /* One axis: the PI output is limited to the room the feed-forward leaves
@@ -117,9 +128,9 @@ mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl,
     }
     const float v_max = cl->modulation_margin * v_dc_V * MC_INV_SQRT3_F;
 
-    /* Decoupling feed-forward (rotor-frame voltage equations). */
-    const float ff_d = -omega_e_rad_s * cl->Lq_H * i_q_A;
-    const float ff_q = omega_e_rad_s * (cl->Ld_H * i_d_A + cl->psi_Wb);
+    float ff_d;
+    float ff_q;
+    feed_forward(cl, i_d_A, i_q_A, omega_e_rad_s, &ff_d, &ff_q);
 
     /* d axis first: the PI may use what the feed-forward leaves. */
     float v_d;
