@@ -42,7 +42,7 @@ static mc_status_t init_loops(mc_app_t *app, const mc_config_t *c)
     if (st != MC_OK) {
         return st;
     }
-    return mc_encoder_tracker_init(&app->encoder, c->encoder_cpr,
+    return mc_encoder_tracker_init_f32(&app->encoder, c->encoder_cpr,
                                    c->pole_pairs, c->encoder_offset_e_rad,
                                    c->pll_bandwidth_rad_s, app->Ts_s);
 }

@@ -10,7 +10,7 @@
 #define MC_ENC_POLE_PAIRS_MAX 64u
 #define MC_ENC_PLL_WTS_MAX 0.5f
 
-mc_status_t mc_encoder_tracker_init(mc_encoder_tracker_t *et, uint32_t cpr,
+mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et, uint32_t cpr,
                                     uint32_t pole_pairs, float offset_e_rad,
                                     float w_pll_rad_s, float Ts_s)
 {
@@ -39,7 +39,7 @@ mc_status_t mc_encoder_tracker_init(mc_encoder_tracker_t *et, uint32_t cpr,
     return MC_OK;
 }
 
-mc_status_t mc_encoder_tracker_update(mc_encoder_tracker_t *et, uint32_t count,
+mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et, uint32_t count,
                                       mc_encoder_estimate_t *out)
 {
     if (count >= et->cpr) {

@@ -52,7 +52,7 @@ static uint32_t estimate(mc_app_t *app, uint32_t count, const mc_frame_t *fr,
     switch (app->cfg.angle_source) {
     case MC_ANGLE_SOURCE_ENCODER: {
         mc_encoder_estimate_t est;
-        if (mc_encoder_tracker_update(&app->encoder, count, &est) != MC_OK) {
+        if (mc_encoder_tracker_update_f32(&app->encoder, count, &est) != MC_OK) {
             return MC_FAULT_ENCODER;
         }
         t->theta_e_rad = est.theta_e_rad;

@@ -24,7 +24,7 @@ static mc_status_t idapbc_integral_init(mc_app_t *app, const mc_config_t *c,
         return st;
     }
     const float lim = c->idapbc_integral_tau_max_Nm;
-    return mc_pi_f32_init(&app->idapbc_int, kp, ki, app->Ts_s, -lim, lim);
+    return mc_pi_init_f32(&app->idapbc_int, kp, ki, app->Ts_s, -lim, lim);
 }
 
 mc_status_t mc_app_sensorless_init(mc_app_t *app, const mc_config_t *c)
@@ -215,7 +215,7 @@ uint32_t mc_app_sensorless_align(mc_app_t *app, float i_alpha_A, float i_beta_A,
 
 void mc_app_idapbc_reset(mc_app_t *app)
 {
-    mc_pi_f32_reset(&app->idapbc_int, 0.0f);
+    mc_pi_reset_f32(&app->idapbc_int, 0.0f);
 }
 
 uint32_t mc_app_idapbc_voltages(mc_app_t *app, mc_telemetry_t *t)
@@ -228,7 +228,7 @@ uint32_t mc_app_idapbc_voltages(mc_app_t *app, mc_telemetry_t *t)
     const float tau_lim = app->kt_Nm_per_A * app->cfg.i_max_A;
     float tau = t->tau_L_hat_Nm;
     if (app->cfg.idapbc_integral_enabled) {
-        tau += mc_pi_f32_step(&app->idapbc_int,
+        tau += mc_pi_step_f32(&app->idapbc_int,
                               t->omega_m_ref_rad_s - t->omega_m_rad_s);
     }
     tau = (tau > tau_lim) ? tau_lim : ((tau < -tau_lim) ? -tau_lim : tau);

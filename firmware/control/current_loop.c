@@ -49,12 +49,12 @@ mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
         return st;
     }
     /* Placeholder limits; the step sets them from v_dc every sample. */
-    st = mc_pi_f32_init(&cl->pi_d, gd.kp_V_per_A, gd.ki_V_per_As, p->Ts_s,
+    st = mc_pi_init_f32(&cl->pi_d, gd.kp_V_per_A, gd.ki_V_per_As, p->Ts_s,
                         -1.0f, 1.0f);
     if (st != MC_OK) {
         return st;
     }
-    st = mc_pi_f32_init(&cl->pi_q, gq.kp_V_per_A, gq.ki_V_per_As, p->Ts_s,
+    st = mc_pi_init_f32(&cl->pi_q, gq.kp_V_per_A, gq.ki_V_per_As, p->Ts_s,
                         -1.0f, 1.0f);
     if (st != MC_OK) {
         return st;
@@ -68,8 +68,8 @@ mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
 
 void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl)
 {
-    mc_pi_f32_reset(&cl->pi_d, 0.0f);
-    mc_pi_f32_reset(&cl->pi_q, 0.0f);
+    mc_pi_reset_f32(&cl->pi_d, 0.0f);
+    mc_pi_reset_f32(&cl->pi_q, 0.0f);
 }
 
 /* Decoupling feed-forward (rotor-frame voltage equations):
@@ -89,8 +89,8 @@ void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
     float ff_d;
     float ff_q;
     feed_forward(cl, i_d_A, i_q_A, omega_e_rad_s, &ff_d, &ff_q);
-    mc_pi_f32_reset(&cl->pi_d, v_d_V - ff_d);
-    mc_pi_f32_reset(&cl->pi_q, v_q_V - ff_q);
+    mc_pi_reset_f32(&cl->pi_d, v_d_V - ff_d);
+    mc_pi_reset_f32(&cl->pi_q, v_q_V - ff_q);
 }
 
 /* One axis: the PI output is limited to the room the feed-forward leaves
@@ -102,10 +102,10 @@ static mc_status_t axis_step(mc_pi_f32_t *pi, float v_lim_V, float ff_V,
 {
     const float lo = -v_lim_V - ff_V;
     const float hi = v_lim_V - ff_V;
-    if (mc_pi_f32_set_limits(pi, lo, hi) != MC_OK) {
+    if (mc_pi_set_limits_f32(pi, lo, hi) != MC_OK) {
         return MC_ERR_NONFINITE;
     }
-    const float u = mc_pi_f32_step(pi, error_A);
+    const float u = mc_pi_step_f32(pi, error_A);
     *v_V = u + ff_V;
     *sat = (u <= lo) || (u >= hi);
     return MC_OK;

@@ -26,7 +26,7 @@ mc_status_t mc_speed_loop_init_f32(mc_speed_loop_f32_t *sl,
     }
     const float kp = p->J_kgm2 * p->bandwidth_rad_s / p->k_t_Nm_per_A;
     const float ki = kp * p->bandwidth_rad_s / MC_SPEED_ZERO_RATIO;
-    const mc_status_t st = mc_pi_f32_init(&sl->pi, kp, ki, p->Ts_s,
+    const mc_status_t st = mc_pi_init_f32(&sl->pi, kp, ki, p->Ts_s,
                                           -p->i_q_max_A, p->i_q_max_A);
     if (st != MC_OK) {
         return st;
@@ -38,7 +38,7 @@ mc_status_t mc_speed_loop_init_f32(mc_speed_loop_f32_t *sl,
 
 void mc_speed_loop_reset_f32(mc_speed_loop_f32_t *sl)
 {
-    mc_pi_f32_reset(&sl->pi, 0.0f);
+    mc_pi_reset_f32(&sl->pi, 0.0f);
 }
 
 float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl,
@@ -46,9 +46,9 @@ float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl,
 {
     /* Friction feed-forward; the PI gets the room left within +-i_q_max. */
     const float ff = sl->B_over_kt * omega_m_ref_rad_s;
-    if (mc_pi_f32_set_limits(&sl->pi, -sl->i_q_max_A - ff,
+    if (mc_pi_set_limits_f32(&sl->pi, -sl->i_q_max_A - ff,
                              sl->i_q_max_A - ff) != MC_OK) {
         return NAN;
     }
-    return ff + mc_pi_f32_step(&sl->pi, omega_m_ref_rad_s - omega_m_rad_s);
+    return ff + mc_pi_step_f32(&sl->pi, omega_m_ref_rad_s - omega_m_rad_s);
 }

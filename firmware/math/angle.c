@@ -148,7 +148,7 @@ float mc_atan2_f32(float y, float x)
     return (y < 0.0f) ? -a : a;
 }
 
-mc_status_t mc_unwrap_f32_init(mc_unwrap_f32_t *u, float theta_wrapped_rad)
+mc_status_t mc_unwrap_init_f32(mc_unwrap_f32_t *u, float theta_wrapped_rad)
 {
     u->turns = 0;
     if (!isfinite(theta_wrapped_rad)) {
@@ -159,7 +159,7 @@ mc_status_t mc_unwrap_f32_init(mc_unwrap_f32_t *u, float theta_wrapped_rad)
     return MC_OK;
 }
 
-float mc_unwrap_f32_step(mc_unwrap_f32_t *u, float theta_wrapped_rad)
+float mc_unwrap_step_f32(mc_unwrap_f32_t *u, float theta_wrapped_rad)
 {
     if (!isfinite(theta_wrapped_rad)) {
         return NAN;

@@ -3,7 +3,7 @@
  */
 #include "mc/pi.h"
 
-mc_status_t mc_pi_f32_init(mc_pi_f32_t *pi, float kp, float ki_per_s,
+mc_status_t mc_pi_init_f32(mc_pi_f32_t *pi, float kp, float ki_per_s,
                            float Ts_s, float out_min, float out_max)
 {
     if (!isfinite(kp) || !isfinite(ki_per_s) || !isfinite(Ts_s) ||
@@ -25,12 +25,12 @@ mc_status_t mc_pi_f32_init(mc_pi_f32_t *pi, float kp, float ki_per_s,
     return MC_OK;
 }
 
-void mc_pi_f32_reset(mc_pi_f32_t *pi, float integrator)
+void mc_pi_reset_f32(mc_pi_f32_t *pi, float integrator)
 {
     pi->integrator = integrator;
 }
 
-mc_status_t mc_pi_f32_set_limits(mc_pi_f32_t *pi, float out_min,
+mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min,
                                  float out_max)
 {
     if (!isfinite(out_min) || !isfinite(out_max)) {

@@ -10,7 +10,7 @@
  * makes the accumulation as accurate as the increments themselves.
  * Needs IEEE arithmetic without reassociation (no -ffast-math, which the
  * project does not use); no multiplications, so FMA contraction cannot
- * break it. Callable from interrupt context: yes.
+ * break it. Interrupt context: yes.
  */
 #ifndef MC_COMPENSATED_SUM_H
 #define MC_COMPENSATED_SUM_H

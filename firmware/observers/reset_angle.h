@@ -1,7 +1,7 @@
 /*
  * Entry check shared by the observers' reset functions, private to
  * mc_observers: a restart from a known angle and two more known values.
- * Callable from interrupt context: yes.
+ * Interrupt context: yes.
  */
 #ifndef MC_RESET_ANGLE_H
 #define MC_RESET_ANGLE_H

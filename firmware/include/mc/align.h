@@ -111,7 +111,7 @@ typedef struct {
 
 /* Validate p (finite, ranges above), design k_d, the filter and the
  * counts (whole periods, rounded), and reset. MC_ERR_NONFINITE or
- * MC_ERR_PARAM (*a untouched) or MC_OK. Not for interrupt context. */
+ * MC_ERR_PARAM (*a untouched) or MC_OK. Interrupt context: no. */
 mc_status_t mc_align_init_f32(mc_align_f32_t *a, const mc_align_params_t *p);
 
 /* Start again at phase 1, ramp from zero, no history. Interrupt context:

@@ -17,8 +17,8 @@
  * seeded random inputs over the whole accepted range, against a double
  * reference): see the MC_*_MAX_ERR constants below, which the tests assert.
  *
- * Every function here is reentrant, bounded-time, allocation-free and
- * callable from interrupt context.
+ * Every function here is reentrant, bounded-time, allocation-free.
+ * Interrupt context: yes (every function).
  */
 #ifndef MC_ANGLE_H
 #define MC_ANGLE_H
@@ -45,12 +45,12 @@
  * The result r satisfies -MC_PI_F < r <= MC_PI_F (a value that would round
  * to -MC_PI_F is returned as +MC_PI_F, the same angle).
  * |theta| > MC_ANGLE_MAX_ABS_RAD or non-finite: returns NaN.
- * ISR-safe.
+ * Interrupt context: yes.
  */
 float mc_wrap_pi_f32(float theta_rad);
 
 /* Signed shortest angle from b to a: wrap(a - b) in (-pi, pi].
- * Same range rules as mc_wrap_pi_f32 (applied to a - b). ISR-safe. */
+ * Same range rules as mc_wrap_pi_f32 (applied to a - b). Interrupt context: yes. */
 static inline float mc_angle_diff_f32(float a_rad, float b_rad)
 {
     return mc_wrap_pi_f32(a_rad - b_rad);
@@ -63,7 +63,7 @@ static inline float mc_angle_diff_f32(float a_rad, float b_rad)
  * theta both outputs are NaN. Cost on a Cortex-M4F (gcc 12 -O2, static
  * count of the executed path): about 56 instructions, no division
  * (newlib sinf + cosf: about 115).
- * ISR-safe.
+ * Interrupt context: yes.
  */
 void mc_sincos_f32(float theta_rad, float *sin_out, float *cos_out);
 
@@ -75,7 +75,7 @@ void mc_sincos_f32(float theta_rad, float *sin_out, float *cos_out);
  * zero vector is undefined, callers that care check the magnitude).
  * NaN or Inf in either input returns NaN. Cost on a Cortex-M4F (gcc 12
  * -O2, static count of the executed path): about 58 instructions including
- * one VDIV (14 cycles) (newlib atan2f: about 91). ISR-safe.
+ * one VDIV (14 cycles) (newlib atan2f: about 91). Interrupt context: yes.
  */
 float mc_atan2_f32(float y, float x);
 
@@ -94,7 +94,7 @@ float mc_atan2_f32(float y, float x);
  * than pi per sample.
  *
  * The float output loses absolute resolution as |y| grows (ulp of y); for
- * long runs take the exact integer count from mc_unwrap_f32_turns() and form
+ * long runs take the exact integer count from mc_unwrap_turns_f32() and form
  * e + 2*pi*n in the precision you need.
  */
 typedef struct {
@@ -104,17 +104,17 @@ typedef struct {
 
 /* Start at theta_wrapped_rad with zero turns. Non-finite input: the state is
  * set to (0, 0 turns) and MC_ERR_NONFINITE returned. Not for ISR use while
- * another context steps the same instance; otherwise ISR-safe. */
-mc_status_t mc_unwrap_f32_init(mc_unwrap_f32_t *u, float theta_wrapped_rad);
+ * another context steps the same instance; otherwise Interrupt context: yes. */
+mc_status_t mc_unwrap_init_f32(mc_unwrap_f32_t *u, float theta_wrapped_rad);
 
 /* One sample: returns the continuous angle e + 2*pi*n (float).
  * Non-finite input: returns NaN and leaves the state unchanged.
  * Turn counter at INT32_MAX/INT32_MIN and asked to go further: returns NaN
- * and leaves the state unchanged (a fault, never a silent wrap). ISR-safe. */
-float mc_unwrap_f32_step(mc_unwrap_f32_t *u, float theta_wrapped_rad);
+ * and leaves the state unchanged (a fault, never a silent wrap). Interrupt context: yes. */
+float mc_unwrap_step_f32(mc_unwrap_f32_t *u, float theta_wrapped_rad);
 
-/* Exact integer turn count n of the last step. ISR-safe. */
-static inline int32_t mc_unwrap_f32_turns(const mc_unwrap_f32_t *u)
+/* Exact integer turn count n of the last step. Interrupt context: yes. */
+static inline int32_t mc_unwrap_turns_f32(const mc_unwrap_f32_t *u)
 {
     return u->turns;
 }

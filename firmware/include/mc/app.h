@@ -236,7 +236,7 @@ typedef struct {
     float calib_sum_A[3];
     float i_offset_A[3];
     /* estimation and control */
-    mc_encoder_tracker_t encoder;
+    mc_encoder_tracker_f32_t encoder;
     mc_current_loop_f32_t current;
     mc_speed_loop_f32_t speed;
     mc_position_loop_f32_t position;
@@ -272,17 +272,17 @@ typedef struct {
 
 /* Defaults for the paper-001 motor (R 0.225 ohm, L 3.8 mH, psi 0.17 Wb,
  * n_p 3, J 0.012 kg m^2) on a 48 V bus at 20 kHz; see config.c for every
- * value and its reason. Not for interrupt context. */
+ * value and its reason. Interrupt context: no. */
 void mc_config_init_default(mc_config_t *cfg);
 
 /* Check a configuration (finite values, ranges, discrete stability of the
  * designed loops). MC_OK, MC_ERR_NONFINITE or MC_ERR_PARAM.
- * Not for interrupt context. */
+ * Interrupt context: no. */
 mc_status_t mc_config_validate(const mc_config_t *cfg);
 
 /* Validate cfg, design the loops, configure the HAL PWM (outputs off, power
  * stage disabled) and enter IDLE. The encoder CPR must match the HAL's
- * (MC_ERR_PARAM otherwise). Not for interrupt context (call before the fast
+ * (MC_ERR_PARAM otherwise). Interrupt context: no (call before the fast
  * ISR is enabled). */
 mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg);
 

@@ -17,18 +17,18 @@
  * silent zero). A vector with a NaN or Inf component is returned unchanged
  * with false (non-finite values are never replaced by finite ones).
  * Magnitudes up to FLT_MAX are handled without overflow.
- * Bounded time (at most one sqrt and four divisions); callable from
- * interrupt context.
+ * Bounded time (at most one sqrt and four divisions).
+ * Interrupt context: yes.
  */
 #ifndef MC_CIRCLE_LIMIT_H
 #define MC_CIRCLE_LIMIT_H
 
 #include <stdbool.h>
 
-/* Keep-angle circular limit. ISR-safe. */
+/* Keep-angle circular limit. Interrupt context: yes. */
 bool mc_circle_limit_f32(float *x_d, float *x_q, float r_max);
 
-/* d-priority circular limit. ISR-safe. */
+/* d-priority circular limit. Interrupt context: yes. */
 bool mc_circle_limit_d_priority_f32(float *x_d, float *x_q, float r_max);
 
 #endif /* MC_CIRCLE_LIMIT_H */

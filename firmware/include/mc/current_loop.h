@@ -37,7 +37,7 @@ typedef struct {
 /* Design kp = L_H * w_c_rad_s, ki = R_ohm * w_c_rad_s (pole-zero
  * cancellation, first-order closed loop of bandwidth w_c).
  * Requires finite R_ohm >= 0, L_H > 0, w_c_rad_s > 0: MC_ERR_PARAM
- * otherwise (MC_ERR_NONFINITE for NaN/Inf). Not for interrupt context. */
+ * otherwise (MC_ERR_NONFINITE for NaN/Inf). Interrupt context: no. */
 mc_status_t mc_current_pi_design_f32(float R_ohm, float L_H, float w_c_rad_s,
                                      mc_current_pi_gains_t *out);
 
@@ -64,11 +64,11 @@ typedef struct {
 
 /* Validate the parameters, design the gains and reset the integrators.
  * MC_ERR_PARAM / MC_ERR_NONFINITE on invalid parameters (the instance is
- * then unusable). Not for interrupt context. */
+ * then unusable). Interrupt context: no. */
 mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
                                      const mc_current_loop_params_t *p);
 
-/* Zero both integrators. Callable from interrupt context: yes. */
+/* Zero both integrators. Interrupt context: yes. */
 void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl);
 
 /* Bumpless take-over from another voltage source: set the integrators so
@@ -76,7 +76,7 @@ void mc_current_loop_reset_f32(mc_current_loop_f32_t *cl);
  * (electrical rad/s) outputs (v_d_V, v_q_V), i.e. I_d = v_d - ff_d,
  * I_q = v_q - ff_q (the next step clamps them into its limits; non-finite
  * arguments make the next step's output non-finite: the caller's fault).
- * Callable from interrupt context: yes. */
+ * Interrupt context: yes. */
 void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
                                 float v_q_V, float i_d_A, float i_q_A,
                                 float omega_e_rad_s);
@@ -85,7 +85,7 @@ void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
  * v_dc in V. The caller checks its inputs for finiteness; v_dc_V must be
  * > 0 (MC_ERR_RANGE otherwise, outputs zeroed, integrators untouched).
  * Returns MC_ERR_NONFINITE if an output is not finite.
- * Callable from interrupt context: yes (bounded: one sqrtf). */
+ * Interrupt context: yes (bounded: one sqrtf). */
 mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl,
                                      float i_d_A, float i_q_A,
                                      float i_d_ref_A, float i_q_ref_A,

@@ -55,11 +55,11 @@ typedef struct {
 
 /* Validate Ts_s > 0 and 0.5 <= delay_periods <= 1.5 (finite), store
  * d * Ts. MC_ERR_NONFINITE / MC_ERR_PARAM (*dc untouched).
- * Not for interrupt context. */
+ * Interrupt context: no. */
 mc_status_t mc_delay_comp_init_f32(mc_delay_comp_f32_t *dc, float Ts_s,
                                    float delay_periods, bool enabled);
 
-/* Switch the advance on or off. Callable from interrupt context: yes. */
+/* Switch the advance on or off. Interrupt context: yes. */
 static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
                                             bool enabled)
 {
@@ -69,7 +69,7 @@ static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
 /* Angle for the inverse Park of the voltage computed now:
  * wrap(theta_e_rad + omega_e_rad_s * d * Ts) if enabled, else theta_e_rad
  * unchanged. NaN for non-finite inputs or |theta| beyond
- * MC_ANGLE_MAX_ABS_RAD when enabled. Callable from interrupt context: yes. */
+ * MC_ANGLE_MAX_ABS_RAD when enabled. Interrupt context: yes. */
 static inline float mc_delay_comp_angle_f32(const mc_delay_comp_f32_t *dc,
                                             float theta_e_rad,
                                             float omega_e_rad_s)
@@ -88,17 +88,17 @@ typedef struct {
 
 /* Validate 0.5 <= delay_periods <= 1.5 (finite) and reset the history to
  * zero volts. MC_ERR_NONFINITE / MC_ERR_PARAM (*av untouched).
- * Not for interrupt context. */
+ * Interrupt context: no. */
 mc_status_t mc_applied_voltage_init_f32(mc_applied_voltage_f32_t *av,
                                         float delay_periods);
 
 /* Fill the history with one voltage (e.g. 0 V with the outputs off).
- * Non-finite: MC_ERR_NONFINITE, state untouched. ISR-safe. */
+ * Non-finite: MC_ERR_NONFINITE, state untouched. Interrupt context: yes. */
 mc_status_t mc_applied_voltage_reset_f32(mc_applied_voltage_f32_t *av,
                                          float v_alpha_V, float v_beta_V);
 
 /* Mean voltage applied over [t_{k-1}, t_k]; call in ISR k BEFORE pushing
- * this ISR's command. ISR-safe. */
+ * this ISR's command. Interrupt context: yes. */
 static inline void mc_applied_voltage_last_f32(
     const mc_applied_voltage_f32_t *av, float *v_alpha_V, float *v_beta_V)
 {
@@ -109,7 +109,7 @@ static inline void mc_applied_voltage_last_f32(
 }
 
 /* Record the voltage commanded in ISR k (as the inverter will produce it).
- * Non-finite: MC_ERR_NONFINITE, state untouched. ISR-safe. */
+ * Non-finite: MC_ERR_NONFINITE, state untouched. Interrupt context: yes. */
 static inline mc_status_t mc_applied_voltage_push_f32(
     mc_applied_voltage_f32_t *av, float v_alpha_V, float v_beta_V)
 {

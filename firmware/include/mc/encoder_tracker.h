@@ -45,7 +45,7 @@ typedef struct {
     int64_t position_counts;
     float theta_hat_rad;      /* PLL angle, single turn, (-pi, pi]*/
     float omega_hat_rad_s;    /* PLL speed, mechanical */
-} mc_encoder_tracker_t;
+} mc_encoder_tracker_f32_t;
 
 typedef struct {
     float theta_m_rad;        /* multi-turn mechanical position */
@@ -57,15 +57,15 @@ typedef struct {
  * w_pll_rad_s > 0, Ts_s > 0 and w_pll * Ts <= 0.5 (discrete PLL stays well
  * damped): MC_ERR_PARAM otherwise (MC_ERR_NONFINITE for NaN/Inf). The first
  * update primes the tracker: multi-turn position starts at that count's
- * angle within the first turn, speed at 0. Not for interrupt context. */
-mc_status_t mc_encoder_tracker_init(mc_encoder_tracker_t *et, uint32_t cpr,
+ * angle within the first turn, speed at 0. Interrupt context: no. */
+mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et, uint32_t cpr,
                                     uint32_t pole_pairs, float offset_e_rad,
                                     float w_pll_rad_s, float Ts_s);
 
 /* One sample: count in [0, cpr) (MC_ERR_RANGE otherwise, state unchanged,
  * *out untouched). The count may move by less than cpr/2 between samples.
- * Callable from interrupt context: yes (bounded). */
-mc_status_t mc_encoder_tracker_update(mc_encoder_tracker_t *et, uint32_t count,
+ * Interrupt context: yes (bounded). */
+mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et, uint32_t count,
                                       mc_encoder_estimate_t *out);
 
 #endif /* MC_ENCODER_TRACKER_H */

@@ -22,7 +22,7 @@ typedef struct {
 } mc_estimate_bounds_t;
 
 /* MC_OK if both bounds are finite and > 0, else MC_ERR_PARAM.
- * Callable from interrupt context: yes (but meant for init). */
+ * Interrupt context: yes (but meant for init). */
 static inline mc_status_t mc_estimate_bounds_validate(
     const mc_estimate_bounds_t *b)
 {
@@ -33,7 +33,7 @@ static inline mc_status_t mc_estimate_bounds_validate(
 
 /* MC_OK if |omega_m_rad_s| <= omega_m_max and |tau_Nm| <= tau_max,
  * MC_ERR_NONFINITE for NaN/Inf, MC_ERR_RANGE otherwise.
- * Callable from interrupt context: yes. */
+ * Interrupt context: yes. */
 static inline mc_status_t mc_estimate_bounds_check(
     const mc_estimate_bounds_t *b, float omega_m_rad_s, float tau_Nm)
 {

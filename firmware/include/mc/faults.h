@@ -40,7 +40,7 @@ typedef struct {
 
 /* Check the limits: all finite, i_trip_A > 0, 0 <= v_dc_min_V < v_dc_max_V.
  * Returns MC_OK, MC_ERR_NONFINITE (a NaN/Inf limit) or MC_ERR_PARAM.
- * Not for interrupt context (init only). */
+ * Interrupt context: no (init only). */
 mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);
 
 /* Causes present in one sample of phase currents (A, offset-corrected) and
@@ -49,7 +49,7 @@ mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);
  * other state, FAULT included, so a clear waits for the bus. A non-finite
  * current or voltage gives MC_FAULT_NONFINITE (and no other bit for that
  * quantity).
- * Callable from interrupt context: yes (bounded, no division). */
+ * Interrupt context: yes (bounded, no division). */
 uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
                                 const float i_abc_A[3], float v_dc_V,
                                 bool check_undervoltage);

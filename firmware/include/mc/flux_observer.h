@@ -85,7 +85,7 @@ typedef struct {
  * Validate the parameters (all finite, L, Phi, gamma, Ts > 0, R >= 0,
  * Ts < 1/(gamma Phi^2)) and reset to theta_e = 0 with zero current.
  * MC_ERR_NONFINITE / MC_ERR_PARAM on invalid parameters (*obs untouched).
- * Not for interrupt context (configuration).
+ * Interrupt context: no (configuration).
  */
 mc_status_t mc_flux_obs_init_f32(mc_flux_obs_f32_t *obs,
                                  const mc_flux_obs_params_t *p);
@@ -95,7 +95,7 @@ mc_status_t mc_flux_obs_init_f32(mc_flux_obs_f32_t *obs,
  * currents measured now: lambda_hat = L i + Phi [cos theta_e; sin theta_e],
  * so eta = Phi [cos; sin] exactly. The paper's start (Section 5) is
  * theta_e = 0. Non-finite input: MC_ERR_NONFINITE, state untouched.
- * Callable from interrupt context: yes.
+ * Interrupt context: yes.
  */
 mc_status_t mc_flux_obs_reset_f32(mc_flux_obs_f32_t *obs, float theta_e_rad,
                                   float i_alpha_A, float i_beta_A);
@@ -104,7 +104,7 @@ mc_status_t mc_flux_obs_reset_f32(mc_flux_obs_f32_t *obs, float theta_e_rad,
  * One sample at t_k: i_*_A measured at t_k, v_*_V the mean voltage applied
  * over [t_{k-1}, t_k] (see above). Updates the flux estimate and the angle.
  * Non-finite input or result: MC_ERR_NONFINITE, state untouched.
- * Callable from interrupt context: yes (bounded time, one atan2, no
+ * Interrupt context: yes (bounded time, one atan2, no
  * division, no sqrt).
  */
 mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
@@ -112,14 +112,14 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
                                  float v_beta_V);
 
 /* Estimated electrical angle theta_e_hat of the last step, [-pi, pi].
- * Callable from interrupt context: yes. */
+ * Interrupt context: yes. */
 static inline float mc_flux_obs_theta_e_f32(const mc_flux_obs_f32_t *obs)
 {
     return obs->theta_e_rad;
 }
 
 /* rho_hat = eta / Phi of (13) (unit length once converged).
- * Callable from interrupt context: yes. */
+ * Interrupt context: yes. */
 static inline void mc_flux_obs_rho_f32(const mc_flux_obs_f32_t *obs,
                                        float *rho_alpha, float *rho_beta)
 {
@@ -129,7 +129,7 @@ static inline void mc_flux_obs_rho_f32(const mc_flux_obs_f32_t *obs,
 
 /* |rho_hat|^2 = |eta|^2 / Phi^2: 1 on the observer's circle; a value far
  * from 1 (say outside [0.25, 4]) means the observer lost the flux.
- * Callable from interrupt context: yes. */
+ * Interrupt context: yes. */
 static inline float mc_flux_obs_rho_sq_f32(const mc_flux_obs_f32_t *obs)
 {
     const float ra = obs->eta_alpha_Wb * obs->inv_flux_per_Wb;
@@ -139,7 +139,7 @@ static inline float mc_flux_obs_rho_sq_f32(const mc_flux_obs_f32_t *obs)
 
 /* Torque-producing current seen through the estimate, i^T Jcal rho_hat =
  * -i_alpha rho_beta + i_beta rho_alpha (the input term of (15)), in A.
- * Equals i_q when rho_hat is exact. Callable from interrupt context: yes. */
+ * Equals i_q when rho_hat is exact. Interrupt context: yes. */
 static inline float mc_flux_obs_iq_f32(const mc_flux_obs_f32_t *obs,
                                        float i_alpha_A, float i_beta_A)
 {

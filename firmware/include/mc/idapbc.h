@@ -93,7 +93,7 @@ typedef struct {
 
 /* Damping giving critically damped poles at w* = 0 (see above):
  * r = 2 sqrt(n_p Phi kt L / J). NaN for non-finite or non-positive
- * arguments. Not for interrupt context (design time). */
+ * arguments. Interrupt context: no (design time). */
 float mc_idapbc_critical_damping_f32(uint32_t pole_pairs, float flux_Wb,
                                      float kt_Nm_per_A, float L_H,
                                      float J_kgm2);
@@ -107,7 +107,7 @@ mc_status_t mc_idapbc_init_f32(mc_idapbc_f32_t *ctl,
 /* One sample of (11): currents in the estimated rotor frame, speed
  * reference w_ref and estimates w_hat (mechanical rad/s), tau_hat (N m);
  * writes v_d, v_q (V). Non-finite input or result: MC_ERR_NONFINITE,
- * outputs untouched. Callable from interrupt context: yes. */
+ * outputs untouched. Interrupt context: yes. */
 mc_status_t mc_idapbc_step_f32(const mc_idapbc_f32_t *ctl, float i_d_A,
                                float i_q_A, float omega_m_ref_rad_s,
                                float omega_m_hat_rad_s, float tau_L_hat_Nm,
@@ -118,7 +118,7 @@ mc_status_t mc_idapbc_step_f32(const mc_idapbc_f32_t *ctl, float i_d_A,
  * *kp_Nms_per_rad = K_P (N m per rad/s), *ki_Nm_per_rad = K_I (N m per
  * rad/s per s). MC_ERR_NONFINITE / MC_ERR_PARAM (outputs untouched) for
  * invalid parameters, p <= 0, or a p the design cannot place (pair slower
- * than 2 p, K_P < 0). Not for interrupt context (design time). */
+ * than 2 p, K_P < 0). Interrupt context: no (design time). */
 mc_status_t mc_idapbc_integral_design_f32(const mc_idapbc_params_t *p,
                                           float J_kgm2, float pole_rad_s,
                                           float *kp_Nms_per_rad,

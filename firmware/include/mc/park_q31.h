@@ -12,7 +12,7 @@
  * so |error| <= 1/2 LSB relative to the given Q31 inputs.
  *
  * Same semantics as mc_park_f32 / mc_inv_park_f32 in mc/park.h.
- * Integer only. Callable from interrupt context: yes (pure, bounded time).
+ * Integer only. Interrupt context: yes (pure, bounded time).
  */
 #ifndef MC_PARK_Q31_H
 #define MC_PARK_Q31_H
@@ -20,23 +20,23 @@
 #include "mc/q31.h"
 
 /* d =  alpha cos + beta sin,  q = -alpha sin + beta cos.
- * Callable from interrupt context. */
+ * Interrupt context: yes. */
 static inline void mc_park_q31(mc_q31_t alpha, mc_q31_t beta,
                                mc_q31_t sin_theta, mc_q31_t cos_theta,
                                mc_q31_t *d, mc_q31_t *q)
 {
-    *d = mc_q31_mac2_sat(alpha, cos_theta, beta, sin_theta);
-    *q = mc_q31_msub2_sat(beta, cos_theta, alpha, sin_theta);
+    *d = mc_mac2_sat_q31(alpha, cos_theta, beta, sin_theta);
+    *q = mc_msub2_sat_q31(beta, cos_theta, alpha, sin_theta);
 }
 
 /* alpha = d cos - q sin,  beta = d sin + q cos.
- * Callable from interrupt context. */
+ * Interrupt context: yes. */
 static inline void mc_inv_park_q31(mc_q31_t d, mc_q31_t q,
                                    mc_q31_t sin_theta, mc_q31_t cos_theta,
                                    mc_q31_t *alpha, mc_q31_t *beta)
 {
-    *alpha = mc_q31_msub2_sat(d, cos_theta, q, sin_theta);
-    *beta = mc_q31_mac2_sat(d, sin_theta, q, cos_theta);
+    *alpha = mc_msub2_sat_q31(d, cos_theta, q, sin_theta);
+    *beta = mc_mac2_sat_q31(d, sin_theta, q, cos_theta);
 }
 
 #endif /* MC_PARK_Q31_H */

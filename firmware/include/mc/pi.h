@@ -47,25 +47,25 @@ typedef struct {
 /* Set gains and limits, integrator to 0 clamped into the limits.
  * Rejects (MC_ERR_NONFINITE / MC_ERR_PARAM, *pi untouched): non-finite
  * argument, kp < 0, ki_per_s < 0, kp == ki_per_s*Ts_s == 0, Ts_s <= 0,
- * out_min >= out_max, ki_per_s*Ts_s not finite. Not ISR-safe by intent
+ * out_min >= out_max, ki_per_s*Ts_s not finite. Interrupt context: no by intent
  * (configuration), though it has no side effects beyond *pi. */
-mc_status_t mc_pi_f32_init(mc_pi_f32_t *pi, float kp, float ki_per_s,
+mc_status_t mc_pi_init_f32(mc_pi_f32_t *pi, float kp, float ki_per_s,
                            float Ts_s, float out_min, float out_max);
 
 /* Set the integrator (bumpless start: pass the output you want now with
  * zero error). Clamped into [out_min, out_max] by the next step; a
  * non-finite value makes every later step return NaN until the next reset.
- * ISR-safe. */
-void mc_pi_f32_reset(mc_pi_f32_t *pi, float integrator);
+ * Interrupt context: yes. */
+void mc_pi_reset_f32(mc_pi_f32_t *pi, float integrator);
 
 /* Change the output limits (may be called every sample). Rejects non-finite
- * limits or out_min >= out_max (state untouched). ISR-safe. */
-mc_status_t mc_pi_f32_set_limits(mc_pi_f32_t *pi, float out_min,
+ * limits or out_min >= out_max (state untouched). Interrupt context: yes. */
+mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min,
                                  float out_max);
 
-/* One controller sample; returns the limited output u_k. ISR-safe,
+/* One controller sample; returns the limited output u_k. Interrupt context: yes,
  * bounded time, no division. */
-static inline float mc_pi_f32_step(mc_pi_f32_t *pi, float error)
+static inline float mc_pi_step_f32(mc_pi_f32_t *pi, float error)
 {
     if (!isfinite(error)) {
         return NAN;

@@ -53,47 +53,46 @@ typedef struct {
 /* Set gains and limits, integrator to 0 clamped into the limits.
  * Rejects with MC_ERR_PARAM (*pi untouched): a negative frac, a shift above
  * MC_PI_Q31_MAX_SHIFT, both gains zero, out_min >= out_max.
- * Configuration: not intended for interrupt context (no side effects beyond
- * *pi). */
-mc_status_t mc_pi_q31_init(mc_pi_q31_t *pi, mc_q31_t kp_frac, uint8_t kp_shift,
+ * Configuration (no side effects beyond *pi). Interrupt context: no. */
+mc_status_t mc_pi_init_q31(mc_pi_q31_t *pi, mc_q31_t kp_frac, uint8_t kp_shift,
                            mc_q31_t ki_ts_frac, uint8_t ki_ts_shift,
                            mc_q31_t out_min, mc_q31_t out_max);
 
 /* Set the integrator (bumpless start: the output wanted now at zero error),
  * Q31 of U_fs; clamped into the limits by the next step.
- * Callable from interrupt context. */
-void mc_pi_q31_reset(mc_pi_q31_t *pi, mc_q31_t integrator);
+ * Interrupt context: yes. */
+void mc_pi_reset_q31(mc_pi_q31_t *pi, mc_q31_t integrator);
 
 /* Change the output limits (may be called every sample). Rejects
  * out_min >= out_max with MC_ERR_PARAM (state untouched).
- * Callable from interrupt context. */
-mc_status_t mc_pi_q31_set_limits(mc_pi_q31_t *pi, mc_q31_t out_min,
+ * Interrupt context: yes. */
+mc_status_t mc_pi_set_limits_q31(mc_pi_q31_t *pi, mc_q31_t out_min,
                                  mc_q31_t out_max);
 
 /* round(x * frac * 2^shift / 2^31) in Q47, shift <= 14: the Q62 product
  * |x * frac| <= 2^62 is moved to Q47 by a right shift of 15 - shift >= 1.
- * Callable from interrupt context. */
-static inline int64_t mc_pi_q31_gain_q47(mc_q31_t x, mc_q31_t frac,
+ * Interrupt context: yes. */
+static inline int64_t mc_pi_gain_q47(mc_q31_t x, mc_q31_t frac,
                                          uint8_t shift)
 {
     const int64_t product_q62 = (int64_t)x * frac;
-    return mc_q63_round_shift(product_q62,
+    return mc_round_shift_q63(product_q62,
                               31U - MC_PI_Q31_GUARD_BITS - (unsigned)shift);
 }
 
-/* x limited to [lo, hi] (lo <= hi). Callable from interrupt context. */
-static inline int64_t mc_pi_q31_clamp(int64_t x, int64_t lo, int64_t hi)
+/* x limited to [lo, hi] (lo <= hi). Interrupt context: yes. */
+static inline int64_t mc_pi_clamp_q31(int64_t x, int64_t lo, int64_t hi)
 {
     return x > hi ? hi : (x < lo ? lo : x);
 }
 
 /* One controller sample; returns the limited output u_k, Q31 of U_fs.
- * Callable from interrupt context: bounded time, no division. */
-static inline mc_q31_t mc_pi_q31_step(mc_pi_q31_t *pi, mc_q31_t error)
+ * Interrupt context: yes (bounded time, no division). */
+static inline mc_q31_t mc_pi_step_q31(mc_pi_q31_t *pi, mc_q31_t error)
 {
-    const int64_t p_term = mc_pi_q31_gain_q47(error, pi->kp_frac, pi->kp_shift);
+    const int64_t p_term = mc_pi_gain_q47(error, pi->kp_frac, pi->kp_shift);
     int64_t integ = pi->integrator_q47 +
-                    mc_pi_q31_gain_q47(error, pi->ki_ts_frac, pi->ki_ts_shift);
+                    mc_pi_gain_q47(error, pi->ki_ts_frac, pi->ki_ts_shift);
     /* 1. conditional integration: stop where the output meets the limit */
     if (error > 0 && p_term + integ > pi->out_max_q47) {
         const int64_t to_limit = pi->out_max_q47 - p_term;
@@ -102,12 +101,12 @@ static inline mc_q31_t mc_pi_q31_step(mc_pi_q31_t *pi, mc_q31_t error)
         const int64_t to_limit = pi->out_min_q47 - p_term;
         integ = to_limit < pi->integrator_q47 ? to_limit : pi->integrator_q47;
     }
-    integ = mc_pi_q31_clamp(integ, pi->out_min_q47, pi->out_max_q47); /* 2. */
+    integ = mc_pi_clamp_q31(integ, pi->out_min_q47, pi->out_max_q47); /* 2. */
     pi->integrator_q47 = integ;
-    const int64_t u = mc_pi_q31_clamp(p_term + integ, pi->out_min_q47,
+    const int64_t u = mc_pi_clamp_q31(p_term + integ, pi->out_min_q47,
                                       pi->out_max_q47); /* 3. */
     /* limits are multiples of 2^16 in Q47, so rounding stays inside them */
-    return (mc_q31_t)mc_q63_round_shift(u, MC_PI_Q31_GUARD_BITS);
+    return (mc_q31_t)mc_round_shift_q63(u, MC_PI_Q31_GUARD_BITS);
 }
 
 #endif /* MC_PI_Q31_H */

@@ -74,43 +74,43 @@ typedef struct {
 
 /* Validate (finite, positive, bandwidth bound, bounds valid), design the
  * gains and reset to zero. MC_ERR_NONFINITE / MC_ERR_PARAM (*pll untouched).
- * Not for interrupt context. */
+ * Interrupt context: no. */
 mc_status_t mc_pll_obs_init_f32(mc_pll_obs_f32_t *pll,
                                 const mc_pll_obs_params_t *p);
 
 /* Restart from known estimates (e.g. aligned angle, 0, 0).
  * Non-finite: MC_ERR_NONFINITE; |theta| > MC_ANGLE_MAX_ABS_RAD:
- * MC_ERR_RANGE; state untouched. Callable from interrupt context: yes. */
+ * MC_ERR_RANGE; state untouched. Interrupt context: yes. */
 mc_status_t mc_pll_obs_reset_f32(mc_pll_obs_f32_t *pll, float theta_e_rad,
                                  float omega_m_rad_s, float tau_L_Nm);
 
 /* One sample with the observed (wrapped) electrical angle at t_k and the
  * torque feed-forward over [t_{k-1}, t_k] (N m, 0 for none).
  * Non-finite input or result: MC_ERR_NONFINITE, state untouched.
- * Callable from interrupt context: yes (bounded, no division). */
+ * Interrupt context: yes (bounded, no division). */
 mc_status_t mc_pll_obs_step_f32(mc_pll_obs_f32_t *pll, float theta_obs_e_rad,
                                 float tau_e_ff_Nm);
 
-/* Filtered electrical angle at t_k, (-pi, pi]. ISR-safe. */
+/* Filtered electrical angle at t_k, (-pi, pi]. Interrupt context: yes. */
 static inline float mc_pll_obs_theta_e_f32(const mc_pll_obs_f32_t *pll)
 {
     return pll->theta_e_rad;
 }
 
-/* Mechanical speed estimate, rad/s. ISR-safe. */
+/* Mechanical speed estimate, rad/s. Interrupt context: yes. */
 static inline float mc_pll_obs_omega_m_f32(const mc_pll_obs_f32_t *pll)
 {
     return pll->omega_m_rad_s;
 }
 
-/* Load-torque estimate, N m. ISR-safe. */
+/* Load-torque estimate, N m. Interrupt context: yes. */
 static inline float mc_pll_obs_tau_L_f32(const mc_pll_obs_f32_t *pll)
 {
     return pll->tau_L_Nm;
 }
 
 /* MC_OK if the estimates are inside the configured bounds, MC_ERR_RANGE
- * otherwise. ISR-safe. */
+ * otherwise. Interrupt context: yes. */
 static inline mc_status_t mc_pll_obs_check_f32(const mc_pll_obs_f32_t *pll)
 {
     return mc_estimate_bounds_check(&pll->bounds, pll->omega_m_rad_s,

@@ -17,7 +17,7 @@ typedef struct {
 } mc_position_loop_f32_t;
 
 /* Validate and store. MC_ERR_PARAM / MC_ERR_NONFINITE on invalid values.
- * Not for interrupt context. */
+ * Interrupt context: no. */
 mc_status_t mc_position_loop_init_f32(mc_position_loop_f32_t *pl,
                                       float kp_per_s, float omega_max_rad_s);
 

@@ -105,7 +105,7 @@ typedef struct {
  * Validate (all finite, a1, a2, J, kt, Ts > 0, n_p >= 1, bounds valid,
  * Euler step stable) and reset to angle 0, zero speed and load.
  * MC_ERR_NONFINITE / MC_ERR_PARAM on invalid parameters (*obs untouched).
- * Not for interrupt context (configuration).
+ * Interrupt context: no (configuration).
  */
 mc_status_t mc_speed_load_obs_init_f32(mc_speed_load_obs_f32_t *obs,
                                        const mc_speed_load_obs_params_t *p);
@@ -114,7 +114,7 @@ mc_status_t mc_speed_load_obs_init_f32(mc_speed_load_obs_f32_t *obs,
  * Restart from a known wrapped electrical angle (e.g. the flux observer's
  * angle after alignment) and initial estimates (paper: 0, 0).
  * Non-finite input: MC_ERR_NONFINITE, state untouched. |theta| beyond
- * MC_ANGLE_MAX_ABS_RAD: MC_ERR_RANGE. Callable from interrupt context: yes.
+ * MC_ANGLE_MAX_ABS_RAD: MC_ERR_RANGE. Interrupt context: yes.
  */
 mc_status_t mc_speed_load_obs_reset_f32(mc_speed_load_obs_f32_t *obs,
                                         float theta_e_rad, float omega_m_rad_s,
@@ -124,19 +124,19 @@ mc_status_t mc_speed_load_obs_reset_f32(mc_speed_load_obs_f32_t *obs,
  * One sample: theta_e_rad = wrapped electrical angle estimate at t_k,
  * i_q_A = q current over [t_{k-1}, t_k] (see header text).
  * Non-finite input or result: MC_ERR_NONFINITE, state untouched.
- * Callable from interrupt context: yes (bounded time, no division).
+ * Interrupt context: yes (bounded time, no division).
  */
 mc_status_t mc_speed_load_obs_step_f32(mc_speed_load_obs_f32_t *obs,
                                        float theta_e_rad, float i_q_A);
 
-/* Mechanical speed estimate w_hat, rad/s. ISR-safe. */
+/* Mechanical speed estimate w_hat, rad/s. Interrupt context: yes. */
 static inline float mc_speed_load_obs_omega_m_f32(
     const mc_speed_load_obs_f32_t *obs)
 {
     return obs->omega_m_rad_s;
 }
 
-/* Load-torque estimate tau_hat, N m. ISR-safe. */
+/* Load-torque estimate tau_hat, N m. Interrupt context: yes. */
 static inline float mc_speed_load_obs_tau_L_f32(
     const mc_speed_load_obs_f32_t *obs)
 {
@@ -144,7 +144,7 @@ static inline float mc_speed_load_obs_tau_L_f32(
 }
 
 /* MC_OK if the estimates are inside the configured bounds, MC_ERR_RANGE
- * otherwise (an implausible, probably diverged, estimate). ISR-safe. */
+ * otherwise (an implausible, probably diverged, estimate). Interrupt context: yes. */
 static inline mc_status_t mc_speed_load_obs_check_f32(
     const mc_speed_load_obs_f32_t *obs)
 {

@@ -36,16 +36,16 @@ typedef struct {
 } mc_speed_loop_f32_t;
 
 /* Validate, design the gains (see above) and reset. MC_ERR_PARAM /
- * MC_ERR_NONFINITE on invalid parameters. Not for interrupt context. */
+ * MC_ERR_NONFINITE on invalid parameters. Interrupt context: no. */
 mc_status_t mc_speed_loop_init_f32(mc_speed_loop_f32_t *sl,
                                    const mc_speed_loop_params_t *p);
 
-/* Zero the integrator. Callable from interrupt context: yes. */
+/* Zero the integrator. Interrupt context: yes. */
 void mc_speed_loop_reset_f32(mc_speed_loop_f32_t *sl);
 
 /* One sample: returns the q-axis current reference in A, limited to
  * +-i_q_max_A. Non-finite inputs give a non-finite output, which the
- * application turns into a fault. Callable from interrupt context: yes. */
+ * application turns into a fault. Interrupt context: yes. */
 float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl,
                              float omega_m_ref_rad_s, float omega_m_rad_s);
 

@@ -4,7 +4,7 @@
  * A function that can fail returns mc_status_t; MC_OK is 0 so that
  * `if (status != MC_OK)` reads naturally. Non-finite inputs are always an
  * error (MC_ERR_NONFINITE), never silently mapped to zero.
- * Callable from interrupt context: yes (constants only).
+ * Interrupt context: yes (constants only).
  */
 #ifndef MC_STATUS_H
 #define MC_STATUS_H

@@ -34,7 +34,7 @@
  * that is not one of the enum values gives MC_ERR_PARAM.
  *
  * Bounded time (at most one sqrt and three divisions), no state;
- * callable from interrupt context.
+ * Interrupt context: yes.
  */
 #ifndef MC_SVPWM_H
 #define MC_SVPWM_H
@@ -57,7 +57,7 @@ typedef struct {
     float v_beta_V;    /* voltage actually applied, beta axis, V */
 } mc_svpwm_out_f32_t;
 
-/* Compute the duties for one PWM period. ISR-safe. */
+/* Compute the duties for one PWM period. Interrupt context: yes. */
 mc_status_t mc_svpwm_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
                          mc_svpwm_limit_t limit, mc_svpwm_out_f32_t *out);
 

@@ -35,7 +35,7 @@
  *
  * Errors: an invalid `limit` gives MC_ERR_PARAM and leaves *out untouched.
  * Bounded time: at most one 32-step integer square root and one 64-bit
- * division, no state. Callable from interrupt context.
+ * division, no state. Interrupt context: yes.
  */
 #ifndef MC_SVPWM_Q31_H
 #define MC_SVPWM_Q31_H
@@ -55,7 +55,7 @@ typedef struct {
     mc_q31_t v_beta_pu;  /* command actually applied, beta, Q31 of v_dc */
 } mc_svpwm_out_q31_t;
 
-/* Compute the duties for one PWM period. Callable from interrupt context. */
+/* Compute the duties for one PWM period. Interrupt context: yes. */
 mc_status_t mc_svpwm_q31(mc_q31_t v_alpha_pu, mc_q31_t v_beta_pu,
                          mc_svpwm_limit_t limit, mc_svpwm_out_q31_t *out);
 

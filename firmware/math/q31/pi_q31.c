@@ -14,7 +14,7 @@ static bool gain_valid(mc_q31_t frac, uint8_t shift)
     return frac >= 0 && shift <= MC_PI_Q31_MAX_SHIFT;
 }
 
-mc_status_t mc_pi_q31_init(mc_pi_q31_t *pi, mc_q31_t kp_frac, uint8_t kp_shift,
+mc_status_t mc_pi_init_q31(mc_pi_q31_t *pi, mc_q31_t kp_frac, uint8_t kp_shift,
                            mc_q31_t ki_ts_frac, uint8_t ki_ts_shift,
                            mc_q31_t out_min, mc_q31_t out_max)
 {
@@ -29,16 +29,16 @@ mc_status_t mc_pi_q31_init(mc_pi_q31_t *pi, mc_q31_t kp_frac, uint8_t kp_shift,
     pi->ki_ts_shift = ki_ts_shift;
     pi->out_min_q47 = q31_to_q47(out_min);
     pi->out_max_q47 = q31_to_q47(out_max);
-    pi->integrator_q47 = mc_pi_q31_clamp(0, pi->out_min_q47, pi->out_max_q47);
+    pi->integrator_q47 = mc_pi_clamp_q31(0, pi->out_min_q47, pi->out_max_q47);
     return MC_OK;
 }
 
-void mc_pi_q31_reset(mc_pi_q31_t *pi, mc_q31_t integrator)
+void mc_pi_reset_q31(mc_pi_q31_t *pi, mc_q31_t integrator)
 {
     pi->integrator_q47 = q31_to_q47(integrator);
 }
 
-mc_status_t mc_pi_q31_set_limits(mc_pi_q31_t *pi, mc_q31_t out_min,
+mc_status_t mc_pi_set_limits_q31(mc_pi_q31_t *pi, mc_q31_t out_min,
                                  mc_q31_t out_max)
 {
     if (out_min >= out_max) {

@@ -1,7 +1,7 @@
 /* Out-of-line Q31 helpers (see mc/q31.h). Integer only. */
 #include "mc/q31.h"
 
-uint32_t mc_u64_isqrt(uint64_t x)
+uint32_t mc_isqrt_u64(uint64_t x)
 {
     /* Digit-by-digit square root, base 4: after the loop root = floor(sqrt(x))
      * and x holds the remainder. `bit` walks the 32 even bit positions. */

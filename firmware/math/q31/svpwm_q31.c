@@ -29,8 +29,8 @@ static void min_max(const int64_t v[3], int64_t *v_min, int64_t *v_max)
 /* Scale (alpha, beta) by the Q31 factor `scale` in [0, 1). */
 static void scale_command(mc_q31_t scale, mc_q31_t *alpha, mc_q31_t *beta)
 {
-    *alpha = mc_q31_mul_sat(*alpha, scale);
-    *beta = mc_q31_mul_sat(*beta, scale);
+    *alpha = mc_mul_sat_q31(*alpha, scale);
+    *beta = mc_mul_sat_q31(*beta, scale);
 }
 
 /* Sector 1..6 of atan2(beta, alpha) from three sign tests:
@@ -74,22 +74,22 @@ mc_status_t mc_svpwm_q31(mc_q31_t v_alpha_pu, mc_q31_t v_beta_pu,
         if (mag_sq_q62 > SVPWM_CIRCLE_SQ_Q62) {
             /* mag > 2^31/sqrt(3) > 0, so the division is safe and the factor
              * (1/sqrt(3)) / |v| is in (0, 1). */
-            const int64_t mag_q31 = (int64_t)mc_u64_isqrt(mag_sq_q62);
+            const int64_t mag_q31 = (int64_t)mc_isqrt_u64(mag_sq_q62);
             const int64_t scale =
                 div_round_positive(MC_Q31_INV_SQRT3 * SVPWM_ONE_Q31, mag_q31);
-            scale_command(mc_q31_sat(scale), &alpha, &beta);
+            scale_command(mc_sat_q31(scale), &alpha, &beta);
             reduced = true;
         }
-        mc_inv_clarke_q31_wide(alpha, beta, v);
+        mc_inv_clarke_wide_q31(alpha, beta, v);
     } else {
-        mc_inv_clarke_q31_wide(alpha, beta, v);
+        mc_inv_clarke_wide_q31(alpha, beta, v);
         min_max(v, &v_min, &v_max);
         const int64_t spread = v_max - v_min;
         if (spread > SVPWM_ONE_Q31) {
             /* spread > 2^31 > 0: factor 1 / spread in (0, 1) */
             const int64_t scale = div_round_positive(SVPWM_ONE_Q62, spread);
-            scale_command(mc_q31_sat(scale), &alpha, &beta);
-            mc_inv_clarke_q31_wide(alpha, beta, v);
+            scale_command(mc_sat_q31(scale), &alpha, &beta);
+            mc_inv_clarke_wide_q31(alpha, beta, v);
             reduced = true;
         }
     }
@@ -99,8 +99,8 @@ mc_status_t mc_svpwm_q31(mc_q31_t v_alpha_pu, mc_q31_t v_beta_pu,
         /* duty = 1/2 + v_k - (max + min)/2, computed in Q32 and rounded once;
          * a rounding excess beyond [0, 1] saturates. */
         const int64_t duty_q32 = SVPWM_ONE_Q31 + 2 * v[k] - v_max - v_min;
-        const int64_t duty = mc_q63_round_shift(duty_q32, 1U);
-        out->duty[k] = duty < 0 ? 0 : mc_q31_sat(duty);
+        const int64_t duty = mc_round_shift_q63(duty_q32, 1U);
+        out->duty[k] = duty < 0 ? 0 : mc_sat_q31(duty);
     }
     out->sector = sector_of(v_alpha_pu, v_beta_pu);
     out->overmodulated = reduced;

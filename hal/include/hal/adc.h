@@ -20,7 +20,7 @@ typedef struct {
 } hal_adc_sample_t;
 
 /* Read the samples converted at this period's PWM centre.
- * out: non-NULL. Callable from interrupt context: yes (it is meant for the
+ * out: non-NULL. Interrupt context: yes (it is meant for the
  * fast ISR; elsewhere it returns the latest completed conversion). */
 void hal_adc_read(hal_adc_sample_t *out);
 

@@ -25,17 +25,17 @@ typedef struct {
     uint8_t data[HAL_CAN_MAX_DLC];
 } hal_can_frame_t;
 
-/* Bring the controller up at bitrate_bps (e.g. 500000). NOT callable from
- * interrupt context. HAL_ERR_PARAM for an unsupported bitrate. */
+/* Bring the controller up at bitrate_bps (e.g. 500000). HAL_ERR_PARAM for an
+ * unsupported bitrate. Interrupt context: no. */
 hal_status_t hal_can_init(uint32_t bitrate_bps);
 
 /* Queue one frame for transmission. HAL_ERR_PARAM: dlc > 8 or id too large
  * for its format; HAL_ERR_BUSY: transmit queue full. Never blocks.
- * Not callable from the fast ISR. */
+ * Interrupt context: no. */
 hal_status_t hal_can_send(const hal_can_frame_t *frame);
 
 /* Take the oldest received frame. HAL_ERR_EMPTY: none pending. Never
- * blocks. Not callable from the fast ISR. */
+ * blocks. Interrupt context: no. */
 hal_status_t hal_can_receive(hal_can_frame_t *frame);
 
 #endif /* HAL_CAN_H */

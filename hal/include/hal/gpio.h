@@ -7,13 +7,13 @@
 #include <stdbool.h>
 
 /* True while the external fault / safe-torque-off input is asserted (gate
- * driver fault, STO chain open, e-stop). Callable from interrupt context:
+ * driver fault, STO chain open, e-stop). Interrupt context:
  * yes. */
 bool hal_gpio_fault_input_active(void);
 
 /* Drive the power-stage enable (gate-driver enable) pin. The PWM outputs
  * switch only while this is enabled AND hal_pwm outputs are enabled.
- * Callable from interrupt context: yes. */
+ * Interrupt context: yes. */
 void hal_gpio_power_stage_enable(bool enable);
 
 /* Set the debug pin (scope timing of the ISR). Callable from interrupt

@@ -1,7 +1,7 @@
 /*
  * Status codes returned by HAL functions that can fail.
  *
- * HAL_OK is 0. Callable from interrupt context: yes (constants only).
+ * HAL_OK is 0. Interrupt context: yes (constants only).
  */
 #ifndef HAL_STATUS_H
 #define HAL_STATUS_H

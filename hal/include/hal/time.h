@@ -8,10 +8,10 @@
 #include <stdint.h>
 
 /* Monotonic time in ticks since power-up (never wraps in practice: 64 bit).
- * Callable from interrupt context: yes. */
+ * Interrupt context: yes. */
 uint64_t hal_time_ticks(void);
 
-/* Frequency of hal_time_ticks in Hz, > 0. Callable from interrupt context:
+/* Frequency of hal_time_ticks in Hz, > 0. Interrupt context:
  * yes. */
 uint32_t hal_time_tick_hz(void);
 

@@ -216,8 +216,8 @@ static void test_encoder_tracker(void **state)
     (void)state;
     const uint32_t cpr = 10000u, n_p = 3u;
     const double offset = 0.4, w_pll = 1000.0;
-    mc_encoder_tracker_t et;
-    assert_int_equal(mc_encoder_tracker_init(&et, cpr, n_p, (float)offset,
+    mc_encoder_tracker_f32_t et;
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, n_p, (float)offset,
                                              (float)w_pll, (float)TS), MC_OK);
     const double speeds[2] = { 37.0, -37.0 };
     double theta = 1.0; /* true mechanical angle */
@@ -228,7 +228,7 @@ static void test_encoder_tracker(void **state)
             const uint32_t c = (uint32_t)floor((theta - turns * 2.0 * PI_D) *
                                                cpr / (2.0 * PI_D)) % cpr;
             mc_encoder_estimate_t est;
-            assert_int_equal(mc_encoder_tracker_update(&et, c, &est), MC_OK);
+            assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
             /* position within one count (+ half-count centring) */
             assert_true(fabs((double)est.theta_m_rad - theta) <
                         2.0 * PI_D / cpr + 1e-5 * fabs(theta) + 1e-6);
@@ -243,10 +243,10 @@ static void test_encoder_tracker(void **state)
         }
     }
     mc_encoder_estimate_t est;
-    assert_int_equal(mc_encoder_tracker_update(&et, cpr, &est), MC_ERR_RANGE);
-    assert_int_equal(mc_encoder_tracker_init(&et, 2u, 3u, 0.0f, 100.0f, 5e-5f),
+    assert_int_equal(mc_encoder_tracker_update_f32(&et, cpr, &est), MC_ERR_RANGE);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 2u, 3u, 0.0f, 100.0f, 5e-5f),
                      MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init(&et, cpr, 3u, 0.0f, 20000.0f, 5e-5f),
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, 3u, 0.0f, 20000.0f, 5e-5f),
                      MC_ERR_PARAM);
 }
 

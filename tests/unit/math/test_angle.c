@@ -256,18 +256,18 @@ static void run_unwrap(double theta0, long n_samples, step_fn next_step,
     test_rng_t rng = test_rng_seed(seed);
     double theta = theta0;
     mc_unwrap_f32_t u;
-    assert_int_equal(mc_unwrap_f32_init(&u, (float)remainder(theta, TWO_PI_D)),
+    assert_int_equal(mc_unwrap_init_f32(&u, (float)remainder(theta, TWO_PI_D)),
                      MC_OK);
     const long turns0 = lround((theta - remainder(theta, TWO_PI_D)) / TWO_PI_D);
     for (long k = 0; k < n_samples; k++) {
         theta += next_step(&rng);
         const double e_exact = remainder(theta, TWO_PI_D);
         const float e = (float)e_exact;
-        const float y = mc_unwrap_f32_step(&u, e);
+        const float y = mc_unwrap_step_f32(&u, e);
         const long turns_true = lround((theta - e_exact) / TWO_PI_D) - turns0;
-        assert_int_equal(mc_unwrap_f32_turns(&u), turns_true);
+        assert_int_equal(mc_unwrap_turns_f32(&u), turns_true);
         const double y_exact =
-            (double)e + TWO_PI_D * (double)mc_unwrap_f32_turns(&u);
+            (double)e + TWO_PI_D * (double)mc_unwrap_turns_f32(&u);
         /* only the float rounding of the wrapped input (half an ulp of pi) */
         assert_true(fabs(y_exact - (theta - TWO_PI_D * turns0)) <= 1.2e-7);
         /* the float output is e + 2 pi n rounded to float */
@@ -314,41 +314,41 @@ static void test_unwrap_uniform_ramp_through_pi(void **state)
 {
     (void)state;
     mc_unwrap_f32_t u;
-    assert_int_equal(mc_unwrap_f32_init(&u, 0.0f), MC_OK);
+    assert_int_equal(mc_unwrap_init_f32(&u, 0.0f), MC_OK);
     const int samples_per_turn = 8; /* step pi/4, hits +-pi exactly */
     for (long k = 1; k <= 10000L * samples_per_turn; k++) {
         const double theta = k * (TWO_PI_D / samples_per_turn);
         const float e = mc_wrap_pi_f32((float)remainder(theta, TWO_PI_D));
-        (void)mc_unwrap_f32_step(&u, e);
-        const double y = (double)e + TWO_PI_D * mc_unwrap_f32_turns(&u);
+        (void)mc_unwrap_step_f32(&u, e);
+        const double y = (double)e + TWO_PI_D * mc_unwrap_turns_f32(&u);
         assert_true(fabs(y - theta) <= 1e-6);
     }
-    assert_int_equal(mc_unwrap_f32_turns(&u), 10000);
+    assert_int_equal(mc_unwrap_turns_f32(&u), 10000);
 }
 
 static void test_unwrap_non_finite_and_counter_limit(void **state)
 {
     (void)state;
     mc_unwrap_f32_t u;
-    assert_int_equal(mc_unwrap_f32_init(&u, NAN), MC_ERR_NONFINITE);
-    assert_int_equal(mc_unwrap_f32_init(&u, 3.0f), MC_OK);
+    assert_int_equal(mc_unwrap_init_f32(&u, NAN), MC_ERR_NONFINITE);
+    assert_int_equal(mc_unwrap_init_f32(&u, 3.0f), MC_OK);
     mc_unwrap_f32_t before = u;
-    assert_true(isnan(mc_unwrap_f32_step(&u, NAN)));
-    assert_true(isnan(mc_unwrap_f32_step(&u, -INFINITY)));
+    assert_true(isnan(mc_unwrap_step_f32(&u, NAN)));
+    assert_true(isnan(mc_unwrap_step_f32(&u, -INFINITY)));
     assert_memory_equal(&u, &before, sizeof u);
     /* the next good sample still sees the crossing from 3.0 */
-    (void)mc_unwrap_f32_step(&u, -3.0f);
-    assert_int_equal(mc_unwrap_f32_turns(&u), 1);
+    (void)mc_unwrap_step_f32(&u, -3.0f);
+    assert_int_equal(mc_unwrap_turns_f32(&u), 1);
 
     u.turns = INT32_MAX;
     u.prev_wrapped_rad = 3.0f;
     before = u;
-    assert_true(isnan(mc_unwrap_f32_step(&u, -3.0f)));
+    assert_true(isnan(mc_unwrap_step_f32(&u, -3.0f)));
     assert_memory_equal(&u, &before, sizeof u);
     u.turns = INT32_MIN;
     u.prev_wrapped_rad = -3.0f;
     before = u;
-    assert_true(isnan(mc_unwrap_f32_step(&u, 3.0f)));
+    assert_true(isnan(mc_unwrap_step_f32(&u, 3.0f)));
     assert_memory_equal(&u, &before, sizeof u);
 }
 

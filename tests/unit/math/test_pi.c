@@ -27,7 +27,7 @@ static void test_pi_step_response_closed_form(void **state)
         const double Ts = test_rng_range(&rng, 1e-5, 1e-3);
         const double e = test_rng_range(&rng, -2.0, 2.0);
         mc_pi_f32_t pi;
-        assert_int_equal(mc_pi_f32_init(&pi, (float)kp, (float)ki, (float)Ts,
+        assert_int_equal(mc_pi_init_f32(&pi, (float)kp, (float)ki, (float)Ts,
                                         -1e9f, 1e9f),
                          MC_OK);
         const double ki_Ts = (double)(float)ki * (double)(float)Ts;
@@ -35,7 +35,7 @@ static void test_pi_step_response_closed_form(void **state)
         for (int k = 0; k < 1000; k++) {
             const double u_ref = (double)(float)kp * (float)e +
                                  ki_Ts * (float)e * (k + 1);
-            const float u = mc_pi_f32_step(&pi, (float)e);
+            const float u = mc_pi_step_f32(&pi, (float)e);
             u_scale = fmax(u_scale, fabs(u_ref));
             /* each sample rounds ki*Ts*e, the sum and the output:
              * at most (k + 3) half-ulps of the largest magnitude */
@@ -58,20 +58,20 @@ static void test_pi_windup_recovery_one_sample(void **state)
         const float ki = (float)test_rng_range(&rng, 100.0, 2000.0);
         const float lim = (float)test_rng_range(&rng, 0.5, 50.0);
         mc_pi_f32_t pi;
-        assert_int_equal(mc_pi_f32_init(&pi, kp, ki, 1e-4f, -lim, lim), MC_OK);
+        assert_int_equal(mc_pi_init_f32(&pi, kp, ki, 1e-4f, -lim, lim), MC_OK);
         const float sign = (trial % 2) ? 1.0f : -1.0f;
         const float e_push = sign * (float)test_rng_range(&rng, 1.0, 10.0);
         for (int k = 0; k < 20000; k++) {
-            const float u = mc_pi_f32_step(&pi, e_push);
+            const float u = mc_pi_step_f32(&pi, e_push);
             assert_true(u >= -lim && u <= lim);
             assert_true(pi.integrator >= -lim && pi.integrator <= lim);
         }
         /* at the limit (within the rounding of kp e + (lim - kp e)) */
-        const float u_sat = mc_pi_f32_step(&pi, e_push);
+        const float u_sat = mc_pi_step_f32(&pi, e_push);
         assert_true(fabsf(u_sat - sign * lim) <= 2.0f * FLT_EPSILON * lim);
         /* a small reversal, far too small to matter for a wound-up
          * integrator (naive I would be ~ 20000 ki Ts |e_push|) */
-        const float u = mc_pi_f32_step(&pi, -sign * 1e-3f);
+        const float u = mc_pi_step_f32(&pi, -sign * 1e-3f);
         assert_true(sign * u < lim);
     }
 }
@@ -82,21 +82,21 @@ static void test_pi_conditional_integration_freezes(void **state)
 {
     (void)state;
     mc_pi_f32_t pi;
-    assert_int_equal(mc_pi_f32_init(&pi, 2.0f, 100.0f, 1e-3f, -10.0f, 10.0f),
+    assert_int_equal(mc_pi_init_f32(&pi, 2.0f, 100.0f, 1e-3f, -10.0f, 10.0f),
                      MC_OK);
     /* kp e = 8 leaves room 2 for the integrator (ki Ts e = 0.4 a sample):
      * it stops at exactly 10 - 8 = 2, the output at exactly 10 */
     float u = 0.0f;
     for (int k = 0; k < 1000; k++) {
-        u = mc_pi_f32_step(&pi, 4.0f);
+        u = mc_pi_step_f32(&pi, 4.0f);
     }
     assert_true(u == 10.0f);
     assert_true(pi.integrator == 2.0f);
     /* error back to 0: the output is the integrator alone */
-    u = mc_pi_f32_step(&pi, 0.0f);
+    u = mc_pi_step_f32(&pi, 0.0f);
     assert_true(u == 2.0f);
     /* kp e alone beyond the limit: the integrator is not moved back */
-    u = mc_pi_f32_step(&pi, 7.0f);
+    u = mc_pi_step_f32(&pi, 7.0f);
     assert_true(u == 10.0f && pi.integrator == 2.0f);
 }
 
@@ -107,36 +107,36 @@ static void test_pi_changing_limits(void **state)
     (void)state;
     test_rng_t rng = test_rng_seed(53);
     mc_pi_f32_t pi;
-    assert_int_equal(mc_pi_f32_init(&pi, 0.5f, 200.0f, 1e-4f, -1.0f, 1.0f),
+    assert_int_equal(mc_pi_init_f32(&pi, 0.5f, 200.0f, 1e-4f, -1.0f, 1.0f),
                      MC_OK);
     for (int k = 0; k < 200000; k++) {
         const float hi = (float)test_rng_range(&rng, 0.01, 30.0);
         const float lo = -(float)test_rng_range(&rng, 0.01, 30.0);
-        assert_int_equal(mc_pi_f32_set_limits(&pi, lo, hi), MC_OK);
+        assert_int_equal(mc_pi_set_limits_f32(&pi, lo, hi), MC_OK);
         const float u =
-            mc_pi_f32_step(&pi, (float)test_rng_range(&rng, -50.0, 50.0));
+            mc_pi_step_f32(&pi, (float)test_rng_range(&rng, -50.0, 50.0));
         assert_true(u >= lo && u <= hi);
         assert_true(pi.integrator >= lo && pi.integrator <= hi);
     }
-    mc_pi_f32_reset(&pi, 0.25f);
-    assert_int_equal(mc_pi_f32_set_limits(&pi, -1.0f, 1.0f), MC_OK);
-    assert_true(mc_pi_f32_step(&pi, 0.0f) == 0.25f);
+    mc_pi_reset_f32(&pi, 0.25f);
+    assert_int_equal(mc_pi_set_limits_f32(&pi, -1.0f, 1.0f), MC_OK);
+    assert_true(mc_pi_step_f32(&pi, 0.0f) == 0.25f);
 }
 
 static void test_pi_non_finite_error(void **state)
 {
     (void)state;
     mc_pi_f32_t pi;
-    assert_int_equal(mc_pi_f32_init(&pi, 1.0f, 10.0f, 1e-3f, -5.0f, 5.0f),
+    assert_int_equal(mc_pi_init_f32(&pi, 1.0f, 10.0f, 1e-3f, -5.0f, 5.0f),
                      MC_OK);
-    (void)mc_pi_f32_step(&pi, 1.0f);
+    (void)mc_pi_step_f32(&pi, 1.0f);
     const mc_pi_f32_t before = pi;
-    assert_true(isnan(mc_pi_f32_step(&pi, NAN)));
-    assert_true(isnan(mc_pi_f32_step(&pi, INFINITY)));
+    assert_true(isnan(mc_pi_step_f32(&pi, NAN)));
+    assert_true(isnan(mc_pi_step_f32(&pi, INFINITY)));
     assert_memory_equal(&pi, &before, sizeof pi);
     /* a non-finite integrator (bad reset) is never turned into a number */
-    mc_pi_f32_reset(&pi, NAN);
-    assert_true(isnan(mc_pi_f32_step(&pi, 0.5f)));
+    mc_pi_reset_f32(&pi, NAN);
+    assert_true(isnan(mc_pi_step_f32(&pi, 0.5f)));
 }
 
 static void assert_init_rejected(float kp, float ki, float Ts, float lo,
@@ -146,7 +146,7 @@ static void assert_init_rejected(float kp, float ki, float Ts, float lo,
     memset(&pi, 0x5A, sizeof pi);
     mc_pi_f32_t before;
     memcpy(&before, &pi, sizeof pi);
-    assert_int_equal(mc_pi_f32_init(&pi, kp, ki, Ts, lo, hi), expected);
+    assert_int_equal(mc_pi_init_f32(&pi, kp, ki, Ts, lo, hi), expected);
     assert_memory_equal(&pi, &before, sizeof pi);
 }
 
@@ -169,12 +169,12 @@ static void test_pi_rejects_bad_parameters(void **state)
     assert_init_rejected(1.0f, 3e38f, 10.0f, -1.0f, 1.0f, MC_ERR_PARAM);
 
     mc_pi_f32_t pi;
-    assert_int_equal(mc_pi_f32_init(&pi, 1.0f, 0.0f, 1e-4f, 2.0f, 3.0f), MC_OK);
+    assert_int_equal(mc_pi_init_f32(&pi, 1.0f, 0.0f, 1e-4f, 2.0f, 3.0f), MC_OK);
     assert_true(pi.integrator == 2.0f); /* zero clamped into the limits */
     const mc_pi_f32_t before = pi;
-    assert_int_equal(mc_pi_f32_set_limits(&pi, 1.0f, 1.0f), MC_ERR_PARAM);
-    assert_int_equal(mc_pi_f32_set_limits(&pi, NAN, 1.0f), MC_ERR_NONFINITE);
-    assert_int_equal(mc_pi_f32_set_limits(&pi, 0.0f, INFINITY), MC_ERR_NONFINITE);
+    assert_int_equal(mc_pi_set_limits_f32(&pi, 1.0f, 1.0f), MC_ERR_PARAM);
+    assert_int_equal(mc_pi_set_limits_f32(&pi, NAN, 1.0f), MC_ERR_NONFINITE);
+    assert_int_equal(mc_pi_set_limits_f32(&pi, 0.0f, INFINITY), MC_ERR_NONFINITE);
     assert_memory_equal(&pi, &before, sizeof pi);
 }
 

@@ -140,18 +140,18 @@ static void test_unwrap_counts_10000_turns_exactly(void **state)
             const long n = (long)(10000.0 * 2.0 * P001_PI / steps[s]) + 1;
             const double theta0 = 0.3;
             mc_unwrap_f32_t u;
-            assert_int_equal(mc_unwrap_f32_init(&u, (float)theta0), MC_OK);
+            assert_int_equal(mc_unwrap_init_f32(&u, (float)theta0), MC_OK);
             long mismatches = 0;
             for (long k = 1; k <= n; k++) {
                 const double theta = theta0 + (double)k * step;
                 const float e = (float)p001_wrap_rad(theta);
-                (void)mc_unwrap_f32_step(&u, e);
+                (void)mc_unwrap_step_f32(&u, e);
                 /* exact count: theta = wrap(theta) + 2 pi n */
                 const long expect = lround((theta - (double)e) / (2.0 * P001_PI));
-                mismatches += (mc_unwrap_f32_turns(&u) != expect);
+                mismatches += (mc_unwrap_turns_f32(&u) != expect);
             }
             assert_int_equal(mismatches, 0);
-            assert_true(labs((long)mc_unwrap_f32_turns(&u)) >= 10000);
+            assert_true(labs((long)mc_unwrap_turns_f32(&u)) >= 10000);
         }
     }
 }

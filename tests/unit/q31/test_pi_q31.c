@@ -97,7 +97,7 @@ static void trio_init(pi_trio_t *t, double kp, double ki_ts, double lo, double h
 {
     const gain_q_t gp = quantise_gain(kp), gi = quantise_gain(ki_ts);
     const int32_t lo_q = real_to_q31_sat(lo), hi_q = real_to_q31_sat(hi);
-    assert_int_equal(mc_pi_q31_init(&t->q, gp.frac, gp.shift, gi.frac, gi.shift,
+    assert_int_equal(mc_pi_init_q31(&t->q, gp.frac, gp.shift, gi.frac, gi.shift,
                                     lo_q, hi_q), MC_OK);
     t->m.kp = gain_value(gp);
     t->m.ki_ts = gain_value(gi);
@@ -105,7 +105,7 @@ static void trio_init(pi_trio_t *t, double kp, double ki_ts, double lo, double h
     t->m.hi = ldexpl((long double)hi_q, -31);
     t->m.integ = clampl(0.0L, t->m.lo, t->m.hi);
     /* float PI with Ts = 1 so that ki_per_s * Ts = ki_ts */
-    assert_int_equal(mc_pi_f32_init(&t->f, (float)t->m.kp, (float)t->m.ki_ts, 1.0f,
+    assert_int_equal(mc_pi_init_f32(&t->f, (float)t->m.kp, (float)t->m.ki_ts, 1.0f,
                                     (float)t->m.lo, (float)t->m.hi), MC_OK);
     t->f_err_integ = 0.0;
 }
@@ -118,7 +118,7 @@ static void trio_step(pi_trio_t *t, int32_t e_q, long k, int check_float)
     const double q_bound = 0.5 + (double)(k + 2) * ldexp(1.0, -17);
     const long double integ_before = t->m.integ;
     const long double u_ref = model_step(&t->m, e);
-    const int32_t u_q = mc_pi_q31_step(&t->q, e_q);
+    const int32_t u_q = mc_pi_step_q31(&t->q, e_q);
     const double err = fabs((double)((long double)u_q - ldexpl(u_ref, 31)));
     if (err > q_bound) {
         fail_msg("sample %ld: q31 %ld vs exact %.3Lf LSB: %.4f > %.4f", k,
@@ -127,7 +127,7 @@ static void trio_step(pi_trio_t *t, int32_t e_q, long k, int check_float)
     assert_true(t->q.integrator_q47 <= t->q.out_max_q47);
     assert_true(t->q.integrator_q47 >= t->q.out_min_q47);
 
-    const float u_f = mc_pi_f32_step(&t->f, (float)e);
+    const float u_f = mc_pi_step_f32(&t->f, (float)e);
     const double u = U_F32;
     const double p = fabs((double)(t->m.kp * e));
     /* float integrator: either the increment path (previous error + 3 u on
@@ -171,7 +171,7 @@ static void test_pi_step_response_analytic(void **state)
                 if (fabsl(u_exact) > 0.98L) {
                     break; /* stay clear of the limits here */
                 }
-                const int32_t u_q = mc_pi_q31_step(&t.q, e_q);
+                const int32_t u_q = mc_pi_step_q31(&t.q, e_q);
                 const double bound = 0.5 + (double)(k + 2) * ldexp(1.0, -17);
                 assert_true(fabs((double)((long double)u_q - ldexpl(u_exact, 31))) <=
                             bound);
@@ -210,16 +210,16 @@ static void test_pi_windup_recovery(void **state)
     for (; k < 3000; ++k) {
         trio_step(&t, e1_q, k, 1);
     }
-    assert_int_equal(mc_pi_q31_step(&t.q, e1_q), hi_q);
+    assert_int_equal(mc_pi_step_q31(&t.q, e1_q), hi_q);
     (void)model_step(&t.m, e1);
-    (void)mc_pi_f32_step(&t.f, (float)e1);
+    (void)mc_pi_step_f32(&t.f, (float)e1);
     ++k;
     /* integrator at hi - kp e1, within the P rounding (1/2 of 2^-16 LSB) */
     assert_true(fabsl((long double)t.q.integrator_q47 -
                       ldexpl(t.m.hi - t.m.kp * e1, 47)) <= 0.5L);
 
     const mc_pi_q31_t before = t.q;
-    const int32_t u_q = mc_pi_q31_step(&t.q, e2_q);
+    const int32_t u_q = mc_pi_step_q31(&t.q, e2_q);
     assert_true(u_q < hi_q);
     const long double u_exact = t.m.hi - t.m.kp * e1 + (t.m.kp + t.m.ki_ts) * e2;
     /* P and increment and the stored P: three 2^-17 terms, output 1/2 */
@@ -235,8 +235,8 @@ static void test_pi_windup_recovery(void **state)
         trio_step(&t, real_to_q31_sat(-0.4), k, 1);
     }
     assert_true(t.q.integrator_q47 >= t.q.out_min_q47);
-    assert_int_equal(mc_pi_q31_step(&t.q, real_to_q31_sat(-0.4)), lo_q);
-    assert_true(mc_pi_q31_step(&t.q, real_to_q31_sat(0.001)) > lo_q);
+    assert_int_equal(mc_pi_step_q31(&t.q, real_to_q31_sat(-0.4)), lo_q);
+    assert_true(mc_pi_step_q31(&t.q, real_to_q31_sat(0.001)) > lo_q);
 }
 
 /* Full-scale errors with the largest gains and full-scale limits: every
@@ -246,30 +246,30 @@ static void test_pi_extremes_saturate(void **state)
 {
     (void)state;
     mc_pi_q31_t pi;
-    assert_int_equal(mc_pi_q31_init(&pi, INT32_MAX, MC_PI_Q31_MAX_SHIFT, INT32_MAX,
+    assert_int_equal(mc_pi_init_q31(&pi, INT32_MAX, MC_PI_Q31_MAX_SHIFT, INT32_MAX,
                                     MC_PI_Q31_MAX_SHIFT, INT32_MIN, INT32_MAX),
                      MC_OK);
     for (int n = 0; n < 1000; ++n) {
-        assert_int_equal(mc_pi_q31_step(&pi, INT32_MAX), INT32_MAX);
+        assert_int_equal(mc_pi_step_q31(&pi, INT32_MAX), INT32_MAX);
         assert_true(pi.integrator_q47 <= pi.out_max_q47);
     }
     /* kp e = -2^14 dominates whatever the integrator holds */
-    assert_int_equal(mc_pi_q31_step(&pi, INT32_MIN), INT32_MIN);
+    assert_int_equal(mc_pi_step_q31(&pi, INT32_MIN), INT32_MIN);
     for (int n = 0; n < 1000; ++n) {
-        assert_int_equal(mc_pi_q31_step(&pi, INT32_MIN), INT32_MIN);
+        assert_int_equal(mc_pi_step_q31(&pi, INT32_MIN), INT32_MIN);
         assert_true(pi.integrator_q47 >= pi.out_min_q47);
     }
     /* alternating extremes */
     for (int n = 0; n < 1000; ++n) {
         const int32_t e = (n & 1) ? INT32_MIN : INT32_MAX;
-        assert_int_equal(mc_pi_q31_step(&pi, e), e);
+        assert_int_equal(mc_pi_step_q31(&pi, e), e);
     }
     /* a reset far outside the limits is clamped by the next step */
-    assert_int_equal(mc_pi_q31_set_limits(&pi, -(1 << 29), 1 << 29), MC_OK);
-    mc_pi_q31_reset(&pi, INT32_MAX);
-    assert_int_equal(mc_pi_q31_step(&pi, 0), 1 << 29);
-    mc_pi_q31_reset(&pi, INT32_MIN);
-    assert_int_equal(mc_pi_q31_step(&pi, 0), -(1 << 29));
+    assert_int_equal(mc_pi_set_limits_q31(&pi, -(1 << 29), 1 << 29), MC_OK);
+    mc_pi_reset_q31(&pi, INT32_MAX);
+    assert_int_equal(mc_pi_step_q31(&pi, 0), 1 << 29);
+    mc_pi_reset_q31(&pi, INT32_MIN);
+    assert_int_equal(mc_pi_step_q31(&pi, 0), -(1 << 29));
 }
 
 static void test_pi_params(void **state)
@@ -279,33 +279,33 @@ static void test_pi_params(void **state)
     memset(&pi, 0x3C, sizeof pi);
     before = pi;
     const int32_t one_half = 1 << 30;
-    assert_int_equal(mc_pi_q31_init(&pi, -1, 0U, one_half, 0U, -one_half, one_half),
+    assert_int_equal(mc_pi_init_q31(&pi, -1, 0U, one_half, 0U, -one_half, one_half),
                      MC_ERR_PARAM);
-    assert_int_equal(mc_pi_q31_init(&pi, one_half, 0U, -1, 0U, -one_half, one_half),
+    assert_int_equal(mc_pi_init_q31(&pi, one_half, 0U, -1, 0U, -one_half, one_half),
                      MC_ERR_PARAM);
-    assert_int_equal(mc_pi_q31_init(&pi, one_half, MC_PI_Q31_MAX_SHIFT + 1U, one_half,
+    assert_int_equal(mc_pi_init_q31(&pi, one_half, MC_PI_Q31_MAX_SHIFT + 1U, one_half,
                                     0U, -one_half, one_half), MC_ERR_PARAM);
-    assert_int_equal(mc_pi_q31_init(&pi, one_half, 0U, one_half,
+    assert_int_equal(mc_pi_init_q31(&pi, one_half, 0U, one_half,
                                     MC_PI_Q31_MAX_SHIFT + 1U, -one_half, one_half),
                      MC_ERR_PARAM);
-    assert_int_equal(mc_pi_q31_init(&pi, 0, 3U, 0, 2U, -one_half, one_half),
+    assert_int_equal(mc_pi_init_q31(&pi, 0, 3U, 0, 2U, -one_half, one_half),
                      MC_ERR_PARAM);
-    assert_int_equal(mc_pi_q31_init(&pi, one_half, 0U, one_half, 0U, one_half,
+    assert_int_equal(mc_pi_init_q31(&pi, one_half, 0U, one_half, 0U, one_half,
                                     one_half), MC_ERR_PARAM);
     assert_memory_equal(&pi, &before, sizeof pi);
 
     /* integrator starts at 0 clamped into the limits: [0.25, 0.5] -> 0.25 */
-    assert_int_equal(mc_pi_q31_init(&pi, one_half, 0U, one_half, 0U, 1 << 29,
+    assert_int_equal(mc_pi_init_q31(&pi, one_half, 0U, one_half, 0U, 1 << 29,
                                     one_half), MC_OK);
-    assert_int_equal(mc_pi_q31_step(&pi, 0), 1 << 29);
+    assert_int_equal(mc_pi_step_q31(&pi, 0), 1 << 29);
     before = pi;
-    assert_int_equal(mc_pi_q31_set_limits(&pi, 5, 5), MC_ERR_PARAM);
-    assert_int_equal(mc_pi_q31_set_limits(&pi, 6, 5), MC_ERR_PARAM);
+    assert_int_equal(mc_pi_set_limits_q31(&pi, 5, 5), MC_ERR_PARAM);
+    assert_int_equal(mc_pi_set_limits_q31(&pi, 6, 5), MC_ERR_PARAM);
     assert_memory_equal(&pi, &before, sizeof pi);
     /* bumpless: reset to the wanted output, zero error returns it */
-    assert_int_equal(mc_pi_q31_set_limits(&pi, -one_half, one_half), MC_OK);
-    mc_pi_q31_reset(&pi, -12345);
-    assert_int_equal(mc_pi_q31_step(&pi, 0), -12345);
+    assert_int_equal(mc_pi_set_limits_q31(&pi, -one_half, one_half), MC_OK);
+    mc_pi_reset_q31(&pi, -12345);
+    assert_int_equal(mc_pi_step_q31(&pi, 0), -12345);
 }
 
 /* Random error sequences through saturation and back, against the model. */

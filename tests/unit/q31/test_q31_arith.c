@@ -51,22 +51,22 @@ static void test_asr_and_round_shift(void **state)
         /* any int64 for asr; |x| <= 2^62 for round_shift's precondition */
         const int64_t x = (int64_t)test_rng_next_u64(&seed);
         const int64_t x62 = x / 2;
-        assert_true(mc_q63_asr(x, n) == (int64_t)floorl(ldexpl((long double)x, -(int)n)));
+        assert_true(mc_asr_q63(x, n) == (int64_t)floorl(ldexpl((long double)x, -(int)n)));
         if (n <= 62U) {
-            assert_true(mc_q63_round_shift(x62, n) ==
+            assert_true(mc_round_shift_q63(x62, n) ==
                         (int64_t)round_div_pow2((long double)x62, n));
         }
     }
-    assert_true(mc_q63_asr(INT64_MIN, 62U) == -2);
-    assert_true(mc_q63_asr(-1, 62U) == -1);
-    assert_true(mc_q63_asr(INT64_MAX, 62U) == 1);
-    assert_true(mc_q63_asr(INT64_MIN, 63U) == -1);
-    assert_true(mc_q63_asr(INT64_MAX, 63U) == 0);
-    assert_true(mc_q63_asr(-1, 1U) == -1);
-    assert_true(mc_q63_asr(-2, 1U) == -1);
-    assert_true(mc_q63_asr(-3, 1U) == -2);
-    assert_true(mc_q63_round_shift(-3, 1U) == -1); /* -1.5 -> -1 (ties up) */
-    assert_true(mc_q63_round_shift(3, 1U) == 2);   /*  1.5 ->  2 */
+    assert_true(mc_asr_q63(INT64_MIN, 62U) == -2);
+    assert_true(mc_asr_q63(-1, 62U) == -1);
+    assert_true(mc_asr_q63(INT64_MAX, 62U) == 1);
+    assert_true(mc_asr_q63(INT64_MIN, 63U) == -1);
+    assert_true(mc_asr_q63(INT64_MAX, 63U) == 0);
+    assert_true(mc_asr_q63(-1, 1U) == -1);
+    assert_true(mc_asr_q63(-2, 1U) == -1);
+    assert_true(mc_asr_q63(-3, 1U) == -2);
+    assert_true(mc_round_shift_q63(-3, 1U) == -1); /* -1.5 -> -1 (ties up) */
+    assert_true(mc_round_shift_q63(3, 1U) == 2);   /*  1.5 ->  2 */
 }
 
 static void test_add_sub_neg_abs_saturate(void **state)
@@ -74,31 +74,31 @@ static void test_add_sub_neg_abs_saturate(void **state)
     (void)state;
     for (size_t i = 0; i < N_EDGES; ++i) {
         const int32_t a = k_edges[i];
-        assert_int_equal(mc_q31_neg_sat(a), clamp_exact(-(long double)a));
-        assert_int_equal(mc_q31_abs_sat(a), clamp_exact(fabsl((long double)a)));
+        assert_int_equal(mc_neg_sat_q31(a), clamp_exact(-(long double)a));
+        assert_int_equal(mc_abs_sat_q31(a), clamp_exact(fabsl((long double)a)));
         for (size_t j = 0; j < N_EDGES; ++j) {
             const int32_t b = k_edges[j];
-            assert_int_equal(mc_q31_add_sat(a, b),
+            assert_int_equal(mc_add_sat_q31(a, b),
                              clamp_exact((long double)a + b));
-            assert_int_equal(mc_q31_sub_sat(a, b),
+            assert_int_equal(mc_sub_sat_q31(a, b),
                              clamp_exact((long double)a - b));
         }
     }
     /* the classic wrap cases, spelled out */
-    assert_int_equal(mc_q31_neg_sat(INT32_MIN), INT32_MAX);
-    assert_int_equal(mc_q31_abs_sat(INT32_MIN), INT32_MAX);
-    assert_int_equal(mc_q31_add_sat(INT32_MAX, 1), INT32_MAX);
-    assert_int_equal(mc_q31_sub_sat(INT32_MIN, 1), INT32_MIN);
-    assert_int_equal(mc_q31_sub_sat(0, INT32_MIN), INT32_MAX);
+    assert_int_equal(mc_neg_sat_q31(INT32_MIN), INT32_MAX);
+    assert_int_equal(mc_abs_sat_q31(INT32_MIN), INT32_MAX);
+    assert_int_equal(mc_add_sat_q31(INT32_MAX, 1), INT32_MAX);
+    assert_int_equal(mc_sub_sat_q31(INT32_MIN, 1), INT32_MIN);
+    assert_int_equal(mc_sub_sat_q31(0, INT32_MIN), INT32_MAX);
 
     uint64_t seed = 0xADD5ULL;
     for (int i = 0; i < N_RANDOM; ++i) {
         const int32_t a = prng_q31(&seed);
         const int32_t b = prng_q31(&seed);
-        assert_int_equal(mc_q31_add_sat(a, b), clamp_exact((long double)a + b));
-        assert_int_equal(mc_q31_sub_sat(a, b), clamp_exact((long double)a - b));
-        assert_int_equal(mc_q31_neg_sat(a), clamp_exact(-(long double)a));
-        assert_int_equal(mc_q31_abs_sat(a), clamp_exact(fabsl((long double)a)));
+        assert_int_equal(mc_add_sat_q31(a, b), clamp_exact((long double)a + b));
+        assert_int_equal(mc_sub_sat_q31(a, b), clamp_exact((long double)a - b));
+        assert_int_equal(mc_neg_sat_q31(a), clamp_exact(-(long double)a));
+        assert_int_equal(mc_abs_sat_q31(a), clamp_exact(fabsl((long double)a)));
     }
 }
 
@@ -118,18 +118,18 @@ static void test_mul_exact_rounding_and_saturation(void **state)
     (void)state;
     for (size_t i = 0; i < N_EDGES; ++i) {
         for (size_t j = 0; j < N_EDGES; ++j) {
-            assert_int_equal(mc_q31_mul_sat(k_edges[i], k_edges[j]),
+            assert_int_equal(mc_mul_sat_q31(k_edges[i], k_edges[j]),
                              ref_mul(k_edges[i], k_edges[j]));
         }
     }
-    assert_int_equal(mc_q31_mul_sat(INT32_MIN, INT32_MIN), INT32_MAX);
-    assert_int_equal(mc_q31_mul_sat(INT32_MIN, INT32_MAX), -INT32_MAX);
-    assert_int_equal(mc_q31_mul_sat(INT32_MAX, INT32_MAX), INT32_MAX - 1);
+    assert_int_equal(mc_mul_sat_q31(INT32_MIN, INT32_MIN), INT32_MAX);
+    assert_int_equal(mc_mul_sat_q31(INT32_MIN, INT32_MAX), -INT32_MAX);
+    assert_int_equal(mc_mul_sat_q31(INT32_MAX, INT32_MAX), INT32_MAX - 1);
     uint64_t seed = 0x3A11ULL;
     for (int i = 0; i < N_RANDOM; ++i) {
         const int32_t a = prng_q31(&seed);
         const int32_t b = prng_q31(&seed);
-        assert_int_equal(mc_q31_mul_sat(a, b), ref_mul(a, b));
+        assert_int_equal(mc_mul_sat_q31(a, b), ref_mul(a, b));
     }
 }
 
@@ -144,35 +144,35 @@ static void test_mac2_msub2_exact_no_overflow(void **state)
                 for (size_t l = 0; l < N_EDGES; ++l) {
                     const int32_t a = k_edges[i], b = k_edges[j];
                     const int32_t c = k_edges[k], d = k_edges[l];
-                    assert_int_equal(mc_q31_mac2_sat(a, b, c, d),
+                    assert_int_equal(mc_mac2_sat_q31(a, b, c, d),
                                      ref_dot2(a, b, c, d, 1));
-                    assert_int_equal(mc_q31_msub2_sat(a, b, c, d),
+                    assert_int_equal(mc_msub2_sat_q31(a, b, c, d),
                                      ref_dot2(a, b, c, d, -1));
                 }
             }
         }
     }
-    assert_int_equal(mc_q31_mac2_sat(INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN),
+    assert_int_equal(mc_mac2_sat_q31(INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN),
                      INT32_MAX);
-    assert_int_equal(mc_q31_msub2_sat(INT32_MIN, INT32_MIN, INT32_MIN, INT32_MAX),
+    assert_int_equal(mc_msub2_sat_q31(INT32_MIN, INT32_MIN, INT32_MIN, INT32_MAX),
                      INT32_MAX);
     uint64_t seed = 0xD072ULL;
     for (int i = 0; i < N_RANDOM; ++i) {
         const int32_t a = prng_q31(&seed), b = prng_q31(&seed);
         const int32_t c = prng_q31(&seed), d = prng_q31(&seed);
-        assert_int_equal(mc_q31_mac2_sat(a, b, c, d), ref_dot2(a, b, c, d, 1));
-        assert_int_equal(mc_q31_msub2_sat(a, b, c, d), ref_dot2(a, b, c, d, -1));
+        assert_int_equal(mc_mac2_sat_q31(a, b, c, d), ref_dot2(a, b, c, d, 1));
+        assert_int_equal(mc_msub2_sat_q31(a, b, c, d), ref_dot2(a, b, c, d, -1));
     }
     /* ties: a*b + c*d = (2k + 1) 2^30 must round up */
-    assert_int_equal(mc_q31_mac2_sat(1 << 15, 1 << 15, 0, 0), 1);  /* 0.5 -> 1 */
-    assert_int_equal(mc_q31_mac2_sat(-(1 << 15), 1 << 15, 0, 0), 0); /* -0.5 -> 0 */
+    assert_int_equal(mc_mac2_sat_q31(1 << 15, 1 << 15, 0, 0), 1);  /* 0.5 -> 1 */
+    assert_int_equal(mc_mac2_sat_q31(-(1 << 15), 1 << 15, 0, 0), 0); /* -0.5 -> 0 */
 }
 
 /* floor(sqrt(x)) characterised by r^2 <= x < (r + 1)^2, checked exactly in
  * long double (r + 1 <= 2^32, so (r + 1)^2 <= 2^64 is exact). */
 static void assert_isqrt(uint64_t x)
 {
-    const long double r = (long double)mc_u64_isqrt(x);
+    const long double r = (long double)mc_isqrt_u64(x);
     assert_true(r * r <= (long double)x);
     assert_true((r + 1.0L) * (r + 1.0L) > (long double)x);
 }
@@ -188,7 +188,7 @@ static void test_isqrt_exact(void **state)
     for (size_t i = 0; i < sizeof edges / sizeof edges[0]; ++i) {
         assert_isqrt(edges[i]);
     }
-    assert_int_equal(mc_u64_isqrt(UINT64_MAX), UINT32_MAX);
+    assert_int_equal(mc_isqrt_u64(UINT64_MAX), UINT32_MAX);
     uint64_t seed = 0x5147ULL;
     for (int i = 0; i < N_RANDOM; ++i) {
         const uint64_t x = test_rng_next_u64(&seed) >> (test_rng_next_u64(&seed) % 64U);
