@@ -12,7 +12,7 @@
 #                  [EXPECT "<key> <value> <abs_tol>"]...
 #                  [MAX "<key> <limit>"]...)
 #   ctest (label qemu) that runs the image under
-#   qemu-system-arm -M mps2-an386 -icount shift=6,align=off,sleep=off
+#   qemu-system-arm -M mps2-an386 -icount shift=MC_QEMU_ICOUNT_SHIFT,align=off,sleep=off
 #   through tests/qemu/run_qemu_test.py: the exit status must equal
 #   EXIT_STATUS (default 0); each "CHECK <key> <value>" line the image
 #   prints is compared: |value - expected| <= tol (EXPECT) or value <= limit
@@ -21,8 +21,13 @@
 find_program(MC_QEMU_SYSTEM_ARM qemu-system-arm REQUIRED)
 find_package(Python3 REQUIRED COMPONENTS Interpreter)
 
+# The one definition of the icount shift: QEMU runs the images with it and
+# the images (QEMU_M4_ICOUNT_SHIFT, hal/qemu_m4) convert ticks with it.
 set(MC_QEMU_ICOUNT_SHIFT 6 CACHE STRING
-  "QEMU -icount shift for the qemu tests (must match QEMU_M4_ICOUNT_SHIFT)")
+  "QEMU -icount shift of the qemu images and tests (>= 6: exact counts)")
+if(MC_QEMU_ICOUNT_SHIFT LESS 6 OR MC_QEMU_ICOUNT_SHIFT GREATER 10)
+  message(FATAL_ERROR "MC_QEMU_ICOUNT_SHIFT must be in [6, 10] (hal/qemu_m4/qemu_m4.h)")
+endif()
 set(MC_QEMU_LINKER_SCRIPT ${PROJECT_SOURCE_DIR}/hal/qemu_m4/mps2_an386.ld)
 
 function(mc_add_qemu_image name)
@@ -34,11 +39,13 @@ function(mc_add_qemu_image name)
   set_target_properties(${name} PROPERTIES SUFFIX ".elf")
   target_compile_definitions(${name} PRIVATE ${I_DEFINITIONS})
   # The vector table and the reset handler are referenced by nothing but
-  # the linker script: -u pulls them out of the archive.
+  # the linker script, the icount shift by nothing but tools reading the
+  # ELF: -u pulls them out of the archive and keeps them through
+  # --gc-sections.
   target_link_libraries(${name} PRIVATE ${I_LIBS} mc_hal_qemu_m4 mc_warnings m)
   target_link_options(${name} PRIVATE
     -nostartfiles
-    -Wl,-u,qemu_m4_vectors -Wl,-u,Reset_Handler
+    -Wl,-u,qemu_m4_vectors -Wl,-u,Reset_Handler -Wl,-u,qemu_m4_icount_shift
     -T${MC_QEMU_LINKER_SCRIPT}
     -Wl,--wrap=mc_app_fast_isr
     -Wl,-Map=$<TARGET_FILE_DIR:${name}>/${name}.map)

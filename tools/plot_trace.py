@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Plot a pmsm-sim CSV trace (columns: host_sim/cli/trace_csv.h) into one PNG.
+"""Plot a pmsm-sim CSV trace into one PNG. The columns are read by name (their
+table: host_sim/cli/trace_csv.c); a trace without a column a panel needs is
+an error naming it.
 
 Panels: speed (actual, reference, estimate) in rpm; position when the trace
 has a position reference; d/q currents with their references; d/q voltage
@@ -22,10 +24,21 @@ import numpy as np  # noqa: E402
 RAD_S_TO_RPM = 30.0 / np.pi
 
 
+# Every column a panel reads.
+COLUMNS = (
+    "t_s", "omega_m_rad_s", "omega_m_est_rad_s", "omega_m_ref_rad_s", "theta_m_rad",
+    "theta_m_ref_rad", "angle_error_e_rad", "i_d_A", "i_q_A", "i_d_ref_A", "i_q_ref_A",
+    "v_d_ref_V", "v_q_ref_V", "v_dc_V", "tau_e_Nm", "tau_load_Nm", "tau_load_est_Nm",
+)
+
+
 def load(path):
     data = np.genfromtxt(path, delimiter=",", names=True)
-    if data.size == 0 or data.dtype.names is None or "t_s" not in data.dtype.names:
-        sys.exit(f"plot_trace: {path}: no trace rows with a t_s column")
+    if data.size == 0 or data.dtype.names is None:
+        sys.exit(f"plot_trace: {path}: no trace rows")
+    missing = [c for c in COLUMNS if c not in data.dtype.names]
+    if missing:
+        sys.exit(f"plot_trace: {path}: missing column(s) {', '.join(missing)}")
     return np.atleast_1d(data)
 
 

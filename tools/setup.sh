@@ -8,7 +8,7 @@ set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
 debian_packages=(
-  cmake ninja-build gcc pkg-config
+  cmake ninja-build gcc pkg-config clang-format
   gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi
   libcmocka-dev libcjson-dev
   qemu-system-arm

@@ -3,6 +3,7 @@
 #include <stdatomic.h>
 
 #include "app_internal.h"
+#include "dispatch.h"
 #include "hal/encoder.h"
 #include "hal/gpio.h"
 #include "hal/pwm.h"
@@ -12,64 +13,36 @@
  * during every copy: only possible if the reader is starved). */
 #define MC_TLM_READ_TRIES 4u
 
-static mc_status_t init_loops(mc_app_t *app, const mc_config_t *c)
-{
-    const mc_current_loop_params_t cp = {
-        .R_ohm = c->R_ohm, .Ld_H = c->Ld_H, .Lq_H = c->Lq_H,
-        .psi_Wb = c->psi_Wb, .bandwidth_rad_s = c->current_bandwidth_rad_s,
-        .modulation_margin = c->modulation_margin, .Ts_s = app->Ts_s,
-    };
-    mc_status_t st = mc_current_loop_init_f32(&app->current, &cp);
-    if (st != MC_OK) {
-        return st;
-    }
-    const mc_speed_loop_params_t sp = {
-        .J_kgm2 = c->J_kgm2, .B_Nms = c->B_Nms,
-        .k_t_Nm_per_A = 1.5f * (float)c->pole_pairs * c->psi_Wb,
-        .bandwidth_rad_s = c->speed_bandwidth_rad_s, .i_q_max_A = c->i_max_A,
-        .Ts_s = app->Ts_s * (float)c->speed_loop_decimation,
-    };
-    st = mc_speed_loop_init_f32(&app->speed, &sp);
-    if (st != MC_OK) {
-        return st;
-    }
-    st = mc_position_loop_init_f32(&app->position, c->position_kp_per_s,
-                                   c->omega_max_rad_s);
-    if (st != MC_OK) {
-        return st;
-    }
-    st = mc_app_sensorless_init(app, c);
-    if (st != MC_OK) {
-        return st;
-    }
-    return mc_encoder_tracker_init_f32(&app->encoder, c->encoder_cpr,
-                                   c->pole_pairs, c->encoder_offset_e_rad,
-                                   c->pll_bandwidth_rad_s, app->Ts_s);
-}
-
 mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
 {
     mc_status_t st = mc_config_validate(cfg);
     if (st != MC_OK) {
         return st;
     }
-    if (hal_encoder_counts_per_rev() != cfg->encoder_cpr ||
-        hal_cycle_counter_hz() == 0u) {
+    if (hal_cycle_counter_hz() == 0u) {
         return MC_ERR_PARAM;
     }
-    *app = (mc_app_t){0};
-    app->cfg = *cfg;
-    app->Ts_s = 1.0f / cfg->f_pwm_hz;
-    app->s_per_cycle = 1.0f / (float)hal_cycle_counter_hz();
-    st = init_loops(app, cfg);
-    if (st != MC_OK) {
-        return st;
-    }
-    if (hal_pwm_init(cfg->f_pwm_hz) != HAL_OK) {
+    hal_pwm_timing_t hw;
+    if (hal_pwm_init(cfg->timing.f_pwm_Hz, &hw) != HAL_OK) {
         return MC_ERR_PARAM;
     }
     hal_pwm_disable_outputs();
     hal_gpio_power_stage_enable(false);
+    mc_timing_t tm;
+    st = mc_timing_init(&tm, &cfg->timing, hw.period_s, hw.delay_periods);
+    if (st != MC_OK) {
+        return st;
+    }
+    *app = (mc_app_t){ 0 };
+    st = mc_app_configure(app, cfg, &tm);
+    if (st != MC_OK) {
+        return st;
+    }
+    const uint32_t cpr = app->est_info.encoder_cpr;
+    if (cpr != 0u && cpr != hal_encoder_counts_per_rev()) {
+        return MC_ERR_PARAM;
+    }
+    app->s_per_cycle = 1.0f / (float)hal_cycle_counter_hz();
     app->state = MC_STATE_IDLE;
     app->enable_armed = true;
     app->cmd_buf[0].mode = MC_MODE_CURRENT;
@@ -107,6 +80,11 @@ void mc_app_publish_telemetry(mc_app_t *app, const mc_telemetry_t *t)
     app->tlm = *t;
     atomic_signal_fence(memory_order_seq_cst);
     app->tlm_seq = app->tlm_seq + 1u; /* even: complete */
+}
+
+const mc_timing_t *mc_app_timing(const mc_app_t *app)
+{
+    return &app->timing;
 }
 
 mc_status_t mc_app_get_telemetry(const mc_app_t *app, mc_telemetry_t *out)

@@ -5,12 +5,20 @@
 
 mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits)
 {
-    if (!isfinite(limits->i_trip_A) || !isfinite(limits->v_dc_max_V) ||
-        !isfinite(limits->v_dc_min_V)) {
+    const float f[] = { limits->i_trip_A,
+                        limits->v_dc_max_V,
+                        limits->v_dc_min_V,
+                        limits->i_offset_max_A,
+                        limits->estimate_omega_max_rad_s,
+                        limits->estimate_tau_max_Nm };
+    if (!mc_all_finite_f32(f, (uint32_t)(sizeof f / sizeof f[0]))) {
         return MC_ERR_NONFINITE;
     }
     if (!(limits->i_trip_A > 0.0f) || limits->v_dc_min_V < 0.0f ||
-        !(limits->v_dc_min_V < limits->v_dc_max_V)) {
+        !(limits->v_dc_min_V < limits->v_dc_max_V) ||
+        !(limits->i_offset_max_A > 0.0f) ||
+        !(limits->estimate_omega_max_rad_s > 0.0f) ||
+        !(limits->estimate_tau_max_Nm > 0.0f)) {
         return MC_ERR_PARAM;
     }
     return MC_OK;
@@ -39,13 +47,4 @@ uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
         }
     }
     return f;
-}
-
-bool mc_all_finite_f32(const float *x, uint32_t n)
-{
-    bool ok = true;
-    for (uint32_t k = 0u; k < n; ++k) {
-        ok = ok && isfinite(x[k]);
-    }
-    return ok;
 }

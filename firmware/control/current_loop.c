@@ -29,22 +29,23 @@ mc_status_t mc_current_pi_design_f32(float R_ohm, float L_H, float w_c_rad_s,
 mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
                                      const mc_current_loop_params_t *p)
 {
-    if (!isfinite(p->psi_Wb) || !isfinite(p->modulation_margin) ||
-        !isfinite(p->Ts_s) || !isfinite(p->Lq_H)) {
+    const float m = p->cfg.modulation_margin;
+    const float w_c = p->cfg.bandwidth_rad_s;
+    if (!isfinite(p->psi_Wb) || !isfinite(m) || !isfinite(p->Ts_s) ||
+        !isfinite(p->Lq_H) || !isfinite(w_c)) {
         return MC_ERR_NONFINITE;
     }
-    if (p->psi_Wb < 0.0f || !(p->modulation_margin > 0.0f) ||
-        p->modulation_margin > 1.0f || !(p->Ts_s > 0.0f)) {
+    if (p->psi_Wb < 0.0f || !(m > 0.0f) || m > 1.0f || !(p->Ts_s > 0.0f) ||
+        w_c * p->Ts_s > MC_CURRENT_LOOP_WTS_MAX) {
         return MC_ERR_PARAM;
     }
     mc_current_pi_gains_t gd;
     mc_current_pi_gains_t gq;
-    mc_status_t st = mc_current_pi_design_f32(p->R_ohm, p->Ld_H,
-                                              p->bandwidth_rad_s, &gd);
+    mc_status_t st = mc_current_pi_design_f32(p->R_ohm, p->Ld_H, w_c, &gd);
     if (st != MC_OK) {
         return st;
     }
-    st = mc_current_pi_design_f32(p->R_ohm, p->Lq_H, p->bandwidth_rad_s, &gq);
+    st = mc_current_pi_design_f32(p->R_ohm, p->Lq_H, w_c, &gq);
     if (st != MC_OK) {
         return st;
     }
@@ -62,7 +63,7 @@ mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
     cl->Ld_H = p->Ld_H;
     cl->Lq_H = p->Lq_H;
     cl->psi_Wb = p->psi_Wb;
-    cl->modulation_margin = p->modulation_margin;
+    cl->modulation_margin = m;
     return MC_OK;
 }
 
@@ -111,11 +112,10 @@ static mc_status_t axis_step(mc_pi_f32_t *pi, float v_lim_V, float ff_V,
     return MC_OK;
 }
 
-mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl,
-                                     float i_d_A, float i_q_A,
-                                     float i_d_ref_A, float i_q_ref_A,
-                                     float omega_e_rad_s, float v_dc_V,
-                                     mc_current_loop_out_t *out)
+mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl, float i_d_A,
+                                     float i_q_A, float i_d_ref_A,
+                                     float i_q_ref_A, float omega_e_rad_s,
+                                     float v_dc_V, mc_current_loop_out_t *out)
 {
     out->v_d_V = 0.0f;
     out->v_q_V = 0.0f;

@@ -3,30 +3,29 @@
 
 #include <math.h>
 
-float mc_idapbc_critical_damping_f32(uint32_t pole_pairs, float flux_Wb,
-                                     float kt_Nm_per_A, float L_H,
-                                     float J_kgm2)
+float mc_idapbc_critical_damping_f32(uint32_t pole_pairs, float psi_Wb,
+                                     float kt_Nm_per_A, float L_H, float J_kgm2)
 {
-    if (pole_pairs < 1u || !(flux_Wb > 0.0f) || !(kt_Nm_per_A > 0.0f) ||
-        !(L_H > 0.0f) || !(J_kgm2 > 0.0f) || !isfinite(flux_Wb) ||
+    if (pole_pairs < 1u || !(psi_Wb > 0.0f) || !(kt_Nm_per_A > 0.0f) ||
+        !(L_H > 0.0f) || !(J_kgm2 > 0.0f) || !isfinite(psi_Wb) ||
         !isfinite(kt_Nm_per_A) || !isfinite(L_H) || !isfinite(J_kgm2)) {
         return NAN;
     }
     /* a^2 = 4 b c with a = r/L, b c = n_p Phi kt / (L J); J > 0 checked,
      * the radicand is then positive (or +Inf/0 on overflow/underflow,
      * which the caller's init rejects) */
-    return 2.0f * sqrtf((float)pole_pairs * flux_Wb * kt_Nm_per_A * L_H /
-                        J_kgm2);
+    return 2.0f *
+           sqrtf((float)pole_pairs * psi_Wb * kt_Nm_per_A * L_H / J_kgm2);
 }
 
 mc_status_t mc_idapbc_init_f32(mc_idapbc_f32_t *ctl,
                                const mc_idapbc_params_t *p)
 {
-    if (!isfinite(p->R_ohm) || !isfinite(p->L_H) || !isfinite(p->flux_Wb) ||
+    if (!isfinite(p->R_ohm) || !isfinite(p->L_H) || !isfinite(p->psi_Wb) ||
         !isfinite(p->kt_Nm_per_A) || !isfinite(p->r_ohm)) {
         return MC_ERR_NONFINITE;
     }
-    if (p->R_ohm < 0.0f || p->L_H <= 0.0f || p->flux_Wb <= 0.0f ||
+    if (p->R_ohm < 0.0f || p->L_H <= 0.0f || p->psi_Wb <= 0.0f ||
         p->pole_pairs < 1u || p->kt_Nm_per_A <= 0.0f || p->r_ohm <= 0.0f) {
         return MC_ERR_PARAM;
     }
@@ -37,7 +36,7 @@ mc_status_t mc_idapbc_init_f32(mc_idapbc_f32_t *ctl,
     }
     ctl->R_minus_r_ohm = p->R_ohm - p->r_ohm;
     ctl->L_np_over_kt = p->L_H * np * inv_kt;
-    ctl->np_flux_Wb = np * p->flux_Wb;
+    ctl->np_psi_Wb = np * p->psi_Wb;
     ctl->r_over_kt = p->r_ohm * inv_kt;
     return MC_OK;
 }
@@ -51,7 +50,7 @@ mc_status_t mc_idapbc_step_f32(const mc_idapbc_f32_t *ctl, float i_d_A,
     const float v_d = ctl->R_minus_r_ohm * i_d_A -
                       ctl->L_np_over_kt * omega_m_hat_rad_s * tau_L_hat_Nm;
     const float v_q = ctl->R_minus_r_ohm * i_q_A +
-                      ctl->np_flux_Wb * omega_m_ref_rad_s +
+                      ctl->np_psi_Wb * omega_m_ref_rad_s +
                       ctl->r_over_kt * tau_L_hat_Nm;
     /* any non-finite input propagates into v_d or v_q */
     if (!isfinite(v_d) || !isfinite(v_q)) {
@@ -80,8 +79,8 @@ mc_status_t mc_idapbc_integral_design_f32(const mc_idapbc_params_t *p,
     }
     /* L > 0, J > 0 checked: a = r / L, bc = n_p Phi kt / (L J); a > 0 */
     const float a = p->r_ohm / p->L_H;
-    const float bc = (float)p->pole_pairs * p->flux_Wb * p->kt_Nm_per_A /
-                     (p->L_H * J_kgm2);
+    const float bc =
+        (float)p->pole_pairs * p->psi_Wb * p->kt_Nm_per_A / (p->L_H * J_kgm2);
     const float alpha = a - pole_rad_s;
     const float beta = alpha * alpha * bc / (a * a); /* damping ratio kept */
     const float kp = J_kgm2 * (beta + alpha * pole_rad_s - bc) / a;
@@ -94,8 +93,8 @@ mc_status_t mc_idapbc_integral_design_f32(const mc_idapbc_params_t *p,
      * (alpha - sqrt(alpha^2 - 4 beta)) / 2 when real (radicand >= 0 in
      * that branch) */
     const float disc = alpha * alpha - 4.0f * beta;
-    const float slow = (disc > 0.0f) ? 0.5f * (alpha - sqrtf(disc))
-                                     : 0.5f * alpha;
+    const float slow =
+        (disc > 0.0f) ? 0.5f * (alpha - sqrtf(disc)) : 0.5f * alpha;
     if (!(slow >= 2.0f * pole_rad_s) || kp < 0.0f || !(ki > 0.0f)) {
         return MC_ERR_PARAM;
     }

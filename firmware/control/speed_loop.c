@@ -10,24 +10,25 @@
 mc_status_t mc_speed_loop_init_f32(mc_speed_loop_f32_t *sl,
                                    const mc_speed_loop_params_t *p)
 {
-    if (!isfinite(p->J_kgm2) || !isfinite(p->B_Nms) ||
-        !isfinite(p->k_t_Nm_per_A) || !isfinite(p->bandwidth_rad_s) ||
+    if (!isfinite(p->J_kgm2) || !isfinite(p->B_Nm_s_rad) ||
+        !isfinite(p->kt_Nm_per_A) || !isfinite(p->bandwidth_rad_s) ||
         !isfinite(p->i_q_max_A) || !isfinite(p->Ts_s)) {
         return MC_ERR_NONFINITE;
     }
-    if (!(p->J_kgm2 > 0.0f) || p->B_Nms < 0.0f || !(p->k_t_Nm_per_A > 0.0f) ||
-        !(p->bandwidth_rad_s > 0.0f) || !(p->i_q_max_A > 0.0f) ||
-        !(p->Ts_s > 0.0f)) {
+    if (!(p->J_kgm2 > 0.0f) || p->B_Nm_s_rad < 0.0f ||
+        !(p->kt_Nm_per_A > 0.0f) || !(p->bandwidth_rad_s > 0.0f) ||
+        !(p->i_q_max_A > 0.0f) || !(p->Ts_s > 0.0f) ||
+        p->bandwidth_rad_s * p->Ts_s > MC_SPEED_LOOP_WTS_MAX) {
         return MC_ERR_PARAM;
     }
-    const float B_over_kt = p->B_Nms / p->k_t_Nm_per_A;
+    const float B_over_kt = p->B_Nm_s_rad / p->kt_Nm_per_A;
     if (!isfinite(B_over_kt)) {
         return MC_ERR_PARAM; /* friction feed-forward gain overflows */
     }
-    const float kp = p->J_kgm2 * p->bandwidth_rad_s / p->k_t_Nm_per_A;
+    const float kp = p->J_kgm2 * p->bandwidth_rad_s / p->kt_Nm_per_A;
     const float ki = kp * p->bandwidth_rad_s / MC_SPEED_ZERO_RATIO;
-    const mc_status_t st = mc_pi_init_f32(&sl->pi, kp, ki, p->Ts_s,
-                                          -p->i_q_max_A, p->i_q_max_A);
+    const mc_status_t st =
+        mc_pi_init_f32(&sl->pi, kp, ki, p->Ts_s, -p->i_q_max_A, p->i_q_max_A);
     if (st != MC_OK) {
         return st;
     }
@@ -41,8 +42,8 @@ void mc_speed_loop_reset_f32(mc_speed_loop_f32_t *sl)
     mc_pi_reset_f32(&sl->pi, 0.0f);
 }
 
-float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl,
-                             float omega_m_ref_rad_s, float omega_m_rad_s)
+float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl, float omega_m_ref_rad_s,
+                             float omega_m_rad_s)
 {
     /* Friction feed-forward; the PI gets the room left within +-i_q_max. */
     const float ff = sl->B_over_kt * omega_m_ref_rad_s;

@@ -25,9 +25,9 @@
 
 /* 2*pi = TWO_PI_1 + TWO_PI_2 + TWO_PI_3: 8, 11 and 24 significant bits.
  * |k| <= 25000/(2*pi) < 2^12, so k*TWO_PI_1 and k*TWO_PI_2 are exact. */
-#define TWO_PI_1 0x1.92p+2f
-#define TWO_PI_2 0x1.fb4p-10f
-#define TWO_PI_3 0x1.4442d2p-22f
+#define TWO_PI_1   0x1.92p+2f
+#define TWO_PI_2   0x1.fb4p-10f
+#define TWO_PI_3   0x1.4442d2p-22f
 #define INV_TWO_PI 0.159154943091895335769f
 
 /* pi/2 = HALF_PI_1 + HALF_PI_2 + HALF_PI_3: 8, 9 and 23 significant bits.
@@ -133,12 +133,13 @@ float mc_atan2_f32(float y, float x)
     }
     const float t = small / big; /* guarded: big > 0; t in [0, 1] */
     const float t2 = t * t;
-    float a = t * (ATAN_A0 +
-                   t2 * (ATAN_A1 +
-                         t2 * (ATAN_A2 +
-                               t2 * (ATAN_A3 +
-                                     t2 * (ATAN_A4 +
-                                           t2 * (ATAN_A5 + t2 * ATAN_A6))))));
+    float a =
+        t *
+        (ATAN_A0 +
+         t2 * (ATAN_A1 +
+               t2 * (ATAN_A2 +
+                     t2 * (ATAN_A3 +
+                           t2 * (ATAN_A4 + t2 * (ATAN_A5 + t2 * ATAN_A6))))));
     if (abs_y > abs_x) {
         a = MC_HALF_PI_F - a; /* second octant */
     }

@@ -30,8 +30,7 @@ void mc_pi_reset_f32(mc_pi_f32_t *pi, float integrator)
     pi->integrator = integrator;
 }
 
-mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min,
-                                 float out_max)
+mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min, float out_max)
 {
     if (!isfinite(out_min) || !isfinite(out_max)) {
         return MC_ERR_NONFINITE;

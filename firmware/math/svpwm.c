@@ -12,9 +12,9 @@
  * sector 1 (0..60 deg): a max, c min; 2: b max, c min; 3: b max, a min;
  * 4: c max, a min; 5: c max, b min; 6: a max, b min. Indexed [max][min]. */
 static const uint8_t sector_by_max_min[3][3] = {
-    {1u, 6u, 1u},
-    {3u, 2u, 2u},
-    {4u, 5u, 4u},
+    { 1u, 6u, 1u },
+    { 3u, 2u, 2u },
+    { 4u, 5u, 4u },
 };
 
 typedef struct {

@@ -4,7 +4,7 @@
 
 static int delay_periods_valid(float d)
 {
-    return d >= 0.5f && d <= 1.5f;
+    return d >= MC_DELAY_PERIODS_MIN && d <= MC_DELAY_PERIODS_MAX;
 }
 
 mc_status_t mc_delay_comp_init_f32(mc_delay_comp_f32_t *dc, float Ts_s,

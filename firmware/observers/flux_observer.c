@@ -15,26 +15,26 @@ static int all_finite4(float a, float b, float c, float d)
 mc_status_t mc_flux_obs_init_f32(mc_flux_obs_f32_t *obs,
                                  const mc_flux_obs_params_t *p)
 {
-    if (!all_finite4(p->R_ohm, p->L_H, p->flux_Wb, p->gamma) ||
+    if (!all_finite4(p->R_ohm, p->L_H, p->psi_Wb, p->gamma) ||
         !isfinite(p->Ts_s)) {
         return MC_ERR_NONFINITE;
     }
-    if (p->R_ohm < 0.0f || p->L_H <= 0.0f || p->flux_Wb <= 0.0f ||
+    if (p->R_ohm < 0.0f || p->L_H <= 0.0f || p->psi_Wb <= 0.0f ||
         p->gamma <= 0.0f || p->Ts_s <= 0.0f) {
         return MC_ERR_PARAM;
     }
     /* Euler stability of the gradient correction: Ts * gamma * Phi^2 < 1
      * (see header). Written as a product: no division to guard. */
-    const float flux_sq = p->flux_Wb * p->flux_Wb;
+    const float flux_sq = p->psi_Wb * p->psi_Wb;
     if (!(p->Ts_s * p->gamma * flux_sq < 1.0f)) {
         return MC_ERR_PARAM;
     }
     obs->Ts_s = p->Ts_s;
     obs->R_ohm = p->R_ohm;
     obs->L_H = p->L_H;
-    obs->flux_Wb = p->flux_Wb;
-    obs->flux_sq_Wb2 = flux_sq;
-    obs->inv_flux_per_Wb = 1.0f / p->flux_Wb; /* Phi > 0 checked above */
+    obs->psi_Wb = p->psi_Wb;
+    obs->psi_sq_Wb2 = flux_sq;
+    obs->inv_psi_per_Wb = 1.0f / p->psi_Wb; /* Phi > 0 checked above */
     obs->gamma = p->gamma;
     return mc_flux_obs_reset_f32(obs, 0.0f, 0.0f, 0.0f);
 }
@@ -50,8 +50,8 @@ mc_status_t mc_flux_obs_reset_f32(mc_flux_obs_f32_t *obs, float theta_e_rad,
     }
     float s, c;
     mc_sincos_f32(theta, &s, &c);
-    obs->eta_alpha_Wb = obs->flux_Wb * c;
-    obs->eta_beta_Wb = obs->flux_Wb * s;
+    obs->eta_alpha_Wb = obs->psi_Wb * c;
+    obs->eta_beta_Wb = obs->psi_Wb * s;
     obs->lambda_alpha_Wb = obs->L_H * i_alpha_A + obs->eta_alpha_Wb;
     obs->lambda_beta_Wb = obs->L_H * i_beta_A + obs->eta_beta_Wb;
     obs->i_alpha_prev_A = i_alpha_A;
@@ -72,14 +72,15 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
     /* gradient term of (12) at the previous sample (explicit Euler) */
     const float ea = obs->eta_alpha_Wb;
     const float eb = obs->eta_beta_Wb;
-    const float corr = obs->gamma * (obs->flux_sq_Wb2 - (ea * ea + eb * eb));
+    const float corr = obs->gamma * (obs->psi_sq_Wb2 - (ea * ea + eb * eb));
     /* (12): measurable flux increment (mean v, trapezoid R i) + correction */
-    const float la = obs->lambda_alpha_Wb +
-                     Ts * (v_alpha_V - half_R * (obs->i_alpha_prev_A + i_alpha_A)
-                           + corr * ea);
-    const float lb = obs->lambda_beta_Wb +
-                     Ts * (v_beta_V - half_R * (obs->i_beta_prev_A + i_beta_A)
-                           + corr * eb);
+    const float la =
+        obs->lambda_alpha_Wb +
+        Ts * (v_alpha_V - half_R * (obs->i_alpha_prev_A + i_alpha_A) +
+              corr * ea);
+    const float lb =
+        obs->lambda_beta_Wb +
+        Ts * (v_beta_V - half_R * (obs->i_beta_prev_A + i_beta_A) + corr * eb);
     /* (14) */
     const float na = la - obs->L_H * i_alpha_A;
     const float nb = lb - obs->L_H * i_beta_A;

@@ -69,12 +69,12 @@ mc_status_t mc_pll_obs_step_f32(mc_pll_obs_f32_t *pll, float theta_obs_e_rad,
      * compensation (see compensated_sum.h) */
     const float w = pll->omega_m_rad_s;
     const float theta_pred_offset = pll->np_Ts * w;
-    const float eps = mc_angle_diff_f32(
-        theta_obs_e_rad, pll->theta_e_rad + theta_pred_offset);
+    const float eps = mc_angle_diff_f32(theta_obs_e_rad,
+                                        pll->theta_e_rad + theta_pred_offset);
     float theta_comp, w_comp;
-    float theta_new = mc_kahan_add_f32(pll->theta_e_rad, pll->theta_comp_rad,
-                                       theta_pred_offset + pll->l1_Ts * eps,
-                                       &theta_comp);
+    float theta_new =
+        mc_kahan_add_f32(pll->theta_e_rad, pll->theta_comp_rad,
+                         theta_pred_offset + pll->l1_Ts * eps, &theta_comp);
     const float w_new = mc_kahan_add_f32(
         w, pll->omega_comp_rad_s,
         pll->Ts_over_J * (tau_e_ff_Nm - pll->tau_L_Nm) + pll->l2_Ts * eps,

@@ -82,7 +82,8 @@ mc_status_t mc_speed_load_obs_step_f32(mc_speed_load_obs_f32_t *obs,
         obs->a1 * nu + obs->Ts_over_J * (obs->kt_Nm_per_A * i_q_A - tau);
     /* compensated accumulation of w_hat (see the header) */
     float comp_new;
-    const float w_new = mc_kahan_add_f32(w, obs->omega_comp_rad_s, dw, &comp_new);
+    const float w_new =
+        mc_kahan_add_f32(w, obs->omega_comp_rad_s, dw, &comp_new);
     const float tau_new = tau - obs->a2 * nu;
     if (!isfinite(d_theta) || !isfinite(w_new) || !isfinite(comp_new) ||
         !isfinite(tau_new)) {

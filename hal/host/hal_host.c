@@ -31,8 +31,8 @@ uint32_t hal_cycle_counter(void)
     if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) {
         abort(); /* Linux always provides this clock */
     }
-    const uint64_t ns = (uint64_t)ts.tv_sec * HAL_HOST_NS_PER_S +
-                        (uint64_t)ts.tv_nsec;
+    const uint64_t ns =
+        (uint64_t)ts.tv_sec * HAL_HOST_NS_PER_S + (uint64_t)ts.tv_nsec;
     return (uint32_t)ns; /* wraps every 4.29 s: differences stay valid */
 }
 

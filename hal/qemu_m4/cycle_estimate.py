@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Cycle ESTIMATE of mc_app_fast_isr on a Cortex-M4F from a QEMU trace.
 
-Method: run the image (under -icount like the tests: the firmware's
+Method: run the image (under -icount with the shift the image was built
+for, read from its qemu_m4_icount_shift, like the tests: the firmware's
 deadline check reads the SysTick counter) with
   -d in_asm,exec,nochain -dfilter <ranges>
 where the ranges cover the firmware code (every function defined in the
@@ -72,6 +73,19 @@ def ranges(elf, names):
     return merged, syms
 
 
+def icount_shift(elf):
+    """The -icount shift the image was built for (its qemu_m4_icount_shift)."""
+    out = subprocess.run([NM, "--defined-only", elf], capture_output=True, text=True,
+                         check=True).stdout
+    addr = next(int(p[0], 16) for p in (l.split() for l in out.splitlines())
+                if len(p) == 3 and p[2] == "qemu_m4_icount_shift")
+    dump = subprocess.run(["arm-none-eabi-objdump", "-s", f"--start-address=0x{addr:x}",
+                           f"--stop-address=0x{addr + 4:x}", elf],
+                          capture_output=True, text=True, check=True).stdout
+    word = next(l.split()[1] for l in dump.splitlines() if l.strip().startswith(f"{addr:x}"))
+    return int.from_bytes(bytes.fromhex(word), "little")
+
+
 def reglist_n(ops):
     m = re.search(r"\{([^}]*)\}", ops)
     if not m:
@@ -135,7 +149,7 @@ def main():
     dfilter = ",".join(f"0x{lo:x}..0x{hi - 1:x}" for lo, hi in rs)
     cmd = [a.qemu, "-M", "mps2-an386", "-nographic", "-monitor", "none",
            "-serial", "none", "-semihosting-config", "enable=on,target=native",
-           "-icount", "shift=6,align=off,sleep=off",
+           "-icount", f"shift={icount_shift(a.elf)},align=off,sleep=off",
            "-d", "in_asm,exec,nochain", "-dfilter", dfilter,
            "-D", "/dev/stderr", "-kernel", a.elf]
     p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,

@@ -17,16 +17,21 @@
 #include "qemu_m4.h"
 #include "semihost.h"
 
-#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
-#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
-#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
-#define SYST_CSR_ENABLE 1u
+#define SYST_CSR               (*(volatile uint32_t *)0xE000E010u)
+#define SYST_RVR               (*(volatile uint32_t *)0xE000E014u)
+#define SYST_CVR               (*(volatile uint32_t *)0xE000E018u)
+#define SYST_CSR_ENABLE        1u
 #define SYST_CSR_CLKSOURCE_CPU 4u
-#define SYST_RELOAD 0x00FFFFFFu
+#define SYST_RELOAD            0x00FFFFFFu
+
+/* The shift this image was built for, readable from the ELF by tools that
+ * start QEMU themselves (cycle_estimate.py). */
+__attribute__((used)) const uint32_t qemu_m4_icount_shift =
+    QEMU_M4_ICOUNT_SHIFT;
 
 static hal_sim_mailbox_t *bound;
-static uint32_t cc_last_raw;  /* SysTick value at the previous call */
-static uint32_t cc_ticks;     /* extended counter */
+static uint32_t cc_last_raw; /* SysTick value at the previous call */
+static uint32_t cc_ticks;    /* extended counter */
 
 void qemu_m4_counter_init(void)
 {
@@ -54,7 +59,8 @@ hal_sim_mailbox_t *hal_sim_bound(void)
     return bound;
 }
 
-/* ---- Cycle counter --------------------------------------------------------- */
+/* ---- Cycle counter ---------------------------------------------------------
+ */
 
 uint32_t hal_cycle_counter(void)
 {
@@ -68,10 +74,12 @@ uint32_t hal_cycle_counter_hz(void)
 {
     /* ticks per second of a QEMU_M4_CORE_HZ core at one instruction per
      * cycle: 168e6 * 2^6 / 40 = 268.8e6 (an integer for N >= 3). */
-    return (uint32_t)(((uint64_t)QEMU_M4_CORE_HZ << QEMU_M4_ICOUNT_SHIFT) / 40u);
+    return (uint32_t)(((uint64_t)QEMU_M4_CORE_HZ << QEMU_M4_ICOUNT_SHIFT) /
+                      40u);
 }
 
-/* ---- Console -------------------------------------------------------------- */
+/* ---- Console --------------------------------------------------------------
+ */
 
 void qemu_m4_puts(const char *s)
 {

@@ -27,7 +27,11 @@
 
 #include <stdint.h>
 
-#define QEMU_M4_ICOUNT_SHIFT 6u
+/* QEMU_M4_ICOUNT_SHIFT comes from the build (MC_QEMU_ICOUNT_SHIFT,
+ * cmake/McQemuImage.cmake), the value QEMU runs with. */
+#ifndef QEMU_M4_ICOUNT_SHIFT
+#error "QEMU_M4_ICOUNT_SHIFT is defined by the build (MC_QEMU_ICOUNT_SHIFT)"
+#endif
 #define QEMU_M4_CORE_HZ 168000000u /* modelled STM32F4-class core clock */
 
 /* Exit status of a HardFault/BusFault/... (startup.c). */

@@ -25,8 +25,9 @@ void semihost_exit(int status)
                                 (uint32_t)status };
     (void)semihost_call(SEMIHOST_SYS_EXIT_EXTENDED, (uintptr_t)block);
     (void)semihost_call(SEMIHOST_SYS_EXIT,
-                        status == 0 ? SEMIHOST_ADP_STOPPED_APPLICATION_EXIT
-                                    : SEMIHOST_ADP_STOPPED_RUNTIME_ERROR_UNKNOWN);
+                        status == 0
+                            ? SEMIHOST_ADP_STOPPED_APPLICATION_EXIT
+                            : SEMIHOST_ADP_STOPPED_RUNTIME_ERROR_UNKNOWN);
     for (;;) {
     }
 }

@@ -10,12 +10,12 @@
 #include <stdint.h>
 
 /* Operation numbers (ARM "Semihosting for AArch32 and AArch64", 2.0). */
-#define SEMIHOST_SYS_WRITEC 0x03u
-#define SEMIHOST_SYS_WRITE0 0x04u
-#define SEMIHOST_SYS_EXIT 0x18u
+#define SEMIHOST_SYS_WRITEC        0x03u
+#define SEMIHOST_SYS_WRITE0        0x04u
+#define SEMIHOST_SYS_EXIT          0x18u
 #define SEMIHOST_SYS_EXIT_EXTENDED 0x20u
 /* angel_SWIreason_ReportException reason codes. */
-#define SEMIHOST_ADP_STOPPED_APPLICATION_EXIT 0x20026u
+#define SEMIHOST_ADP_STOPPED_APPLICATION_EXIT      0x20026u
 #define SEMIHOST_ADP_STOPPED_RUNTIME_ERROR_UNKNOWN 0x20023u
 
 /* Raw call: r0 = op, r1 = arg; returns r0. */

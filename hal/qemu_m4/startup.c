@@ -72,12 +72,30 @@ static __attribute__((noreturn)) void fault(const char *name)
     semihost_exit(QEMU_M4_EXIT_FAULT);
 }
 
-void NMI_Handler(void) { fault("NMI"); }
-void HardFault_Handler(void) { fault("HardFault"); }
-void MemManage_Handler(void) { fault("MemManage"); }
-void BusFault_Handler(void) { fault("BusFault"); }
-void UsageFault_Handler(void) { fault("UsageFault"); }
-void Default_Handler(void) { fault("unexpected interrupt"); }
+void NMI_Handler(void)
+{
+    fault("NMI");
+}
+void HardFault_Handler(void)
+{
+    fault("HardFault");
+}
+void MemManage_Handler(void)
+{
+    fault("MemManage");
+}
+void BusFault_Handler(void)
+{
+    fault("BusFault");
+}
+void UsageFault_Handler(void)
+{
+    fault("UsageFault");
+}
+void Default_Handler(void)
+{
+    fault("unexpected interrupt");
+}
 
 typedef void (*vector_t)(void);
 
@@ -91,7 +109,10 @@ const vector_t qemu_m4_vectors[16] = {
     MemManage_Handler,
     BusFault_Handler,
     UsageFault_Handler,
-    0, 0, 0, 0,
+    0,
+    0,
+    0,
+    0,
     Default_Handler, /* SVCall */
     Default_Handler, /* DebugMonitor */
     0,

@@ -25,20 +25,19 @@ bool hal_sim_outputs_active(const hal_sim_mailbox_t *mailbox)
 
 /* ---- PWM ---------------------------------------------------------------- */
 
-hal_status_t hal_pwm_init(float f_pwm_hz)
+hal_status_t hal_pwm_init(float f_pwm_Hz, hal_pwm_timing_t *timing)
 {
     hal_sim_mailbox_t *m = hal_sim_bound();
-    if (!isfinite(f_pwm_hz) || !(f_pwm_hz > 0.0f)) {
+    /* The simulated inverter switches at the plant's rate whatever was
+     * asked (as a timer realises the nearest period it can make); the
+     * firmware compares the realised period with its request. */
+    if (!isfinite(f_pwm_Hz) || !(f_pwm_Hz > 0.0f) || !(m->pwm_f_Hz > 0.0f)) {
         return HAL_ERR_PARAM;
     }
-    m->pwm_period_s = 1.0f / f_pwm_hz;
+    timing->period_s = 1.0f / m->pwm_f_Hz;
+    timing->delay_periods = m->pwm_delay_periods;
     m->pwm_outputs_enabled = false;
     return HAL_OK;
-}
-
-float hal_pwm_period_s(void)
-{
-    return hal_sim_bound()->pwm_period_s;
 }
 
 void hal_pwm_set_duties(const float duty_abc[3])

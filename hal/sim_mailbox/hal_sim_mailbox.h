@@ -8,9 +8,11 @@
  * it and write the firmware's outputs into it. The firmware never sees
  * plant state except through these HAL calls.
  *
- *   engine -> firmware: ADC sample, encoder count/index, fault input, time
+ *   engine -> firmware: ADC sample, encoder count/index, fault input, time,
+ *                       the PWM the simulated inverter makes (its rate and
+ *                       its sample-to-apply delay: hal/pwm.h)
  *   firmware -> engine: duties, PWM outputs enable, power-stage enable,
- *                       debug pin, PWM period
+ *                       debug pin
  *
  * hal_sim_mailbox.c implements the PWM, ADC, encoder, GPIO and
  * hal_time_ticks functions on the bound mailbox (monotonic time = the
@@ -35,9 +37,11 @@ typedef struct {
     uint32_t encoder_count_at_index;
     bool fault_input_active;
     uint64_t sim_time_ns;
+    float pwm_f_Hz;          /* the plant's PWM rate: hal_pwm_init
+                                realises its period 1 / pwm_f_Hz */
+    float pwm_delay_periods; /* the engine's sample-to-apply delay */
     /* firmware -> engine */
-    float pwm_period_s;          /* 0 until hal_pwm_init */
-    float duty_abc[3];           /* [0, 1], applied from the next period */
+    float duty_abc[3]; /* [0, 1], applied from the next period */
     bool pwm_outputs_enabled;
     bool power_stage_enabled;
     bool debug_pin;

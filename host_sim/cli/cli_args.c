@@ -9,6 +9,7 @@ void cli_print_help(FILE *f)
         "usage: pmsm-sim run SCENARIO.json [--set KEY.PATH=VALUE ...] [--csv FILE]\n"
         "                    [--json FILE] [--plot FILE.png] [--quiet]\n"
         "       pmsm-sim bench SCENARIO.json [--set KEY.PATH=VALUE ...] [--quiet]\n"
+        "       pmsm-sim keys\n"
         "       pmsm-sim --help\n"
         "\n"
         "run     simulate the scenario in closed loop (plant + host HAL + drive firmware,\n"
@@ -18,6 +19,9 @@ void cli_print_help(FILE *f)
         "        faults. Progress goes to stderr when a run takes more than 2 s.\n"
         "bench   simulate the scenario without outputs and report simulated seconds per\n"
         "        wall-clock second of the step loop.\n"
+        "keys    list the keys of the scenario's firmware section (taken from the\n"
+        "        firmware's parameter table) with their types and defaults, and the\n"
+        "        columns of the CSV trace.\n"
         "\n"
         "options:\n"
         "  --set KEY.PATH=VALUE  override a scenario key before validation (repeatable);\n"
@@ -46,8 +50,7 @@ static const char *option_value(int argc, char **argv, int *i, char *msg, size_t
     return argv[*i];
 }
 
-static bool parse_option(int argc, char **argv, int *i, cli_args_t *out, char *msg,
-                         size_t msg_size)
+static bool parse_option(int argc, char **argv, int *i, cli_args_t *out, char *msg, size_t msg_size)
 {
     const char *opt = argv[*i];
     if (strcmp(opt, "--quiet") == 0) {
@@ -95,6 +98,13 @@ bool cli_parse(int argc, char **argv, cli_args_t *out, char *msg, size_t msg_siz
         out->command = CLI_RUN;
     } else if (strcmp(command, "bench") == 0) {
         out->command = CLI_BENCH;
+    } else if (strcmp(command, "keys") == 0) {
+        out->command = CLI_KEYS;
+        if (argc > 2) {
+            snprintf(msg, msg_size, "keys takes no argument, found '%s'", argv[2]);
+            return false;
+        }
+        return true;
     } else {
         snprintf(msg, msg_size, "unknown command '%s'", command);
         return false;

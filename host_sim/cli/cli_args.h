@@ -11,19 +11,19 @@
 /* Exit codes. */
 enum {
     CLI_EXIT_OK = 0,
-    CLI_EXIT_RUN_FAILED = 1,   /* engine error or an output could not be written */
-    CLI_EXIT_USAGE = 2,        /* bad command line */
-    CLI_EXIT_SCENARIO = 3      /* scenario file unreadable or invalid */
+    CLI_EXIT_RUN_FAILED = 1, /* engine error or an output could not be written */
+    CLI_EXIT_USAGE = 2,      /* bad command line */
+    CLI_EXIT_SCENARIO = 3    /* scenario file unreadable or invalid */
 };
 
-typedef enum { CLI_HELP, CLI_RUN, CLI_BENCH } cli_command_t;
+typedef enum { CLI_HELP, CLI_RUN, CLI_BENCH, CLI_KEYS } cli_command_t;
 
 typedef struct {
     cli_command_t command;
     const char *scenario;
     const char *overrides[CLI_MAX_OVERRIDES];
     size_t n_overrides;
-    const char *csv;           /* NULL: none */
+    const char *csv; /* NULL: none */
     const char *json;
     const char *plot;
     bool quiet;

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "cli_args.h"
+#include "keys.h"
 #include "plot.h"
 #include "report.h"
 #include "run.h"
@@ -112,6 +113,10 @@ int main(int argc, char **argv)
     }
     if (args.command == CLI_HELP) {
         cli_print_help(stdout);
+        return CLI_EXIT_OK;
+    }
+    if (args.command == CLI_KEYS) {
+        keys_print(stdout);
         return CLI_EXIT_OK;
     }
     static scenario_t scenario;

@@ -36,8 +36,8 @@ bool plot_trace(const char *csv_file, const char *png_file, const char *title, c
     locate("PMSM_SIM_PYTHON", ".venv/bin/python", python, sizeof(python));
     locate("PMSM_SIM_PLOT_SCRIPT", "tools/plot_trace.py", script, sizeof(script));
     if (access(python, X_OK) != 0) {
-        snprintf(msg, msg_size,
-                 "no Python at %.1000s: run tools/setup.sh or set PMSM_SIM_PYTHON", python);
+        snprintf(msg, msg_size, "no Python at %.1000s: run tools/setup.sh or set PMSM_SIM_PYTHON",
+                 python);
         return false;
     }
     if (access(script, R_OK) != 0) {
@@ -45,9 +45,8 @@ bool plot_trace(const char *csv_file, const char *png_file, const char *title, c
         return false;
     }
     char title_flag[] = "--title";
-    char *const argv[] = {
-        python, script, (char *)csv_file, (char *)png_file, title_flag, (char *)title, NULL
-    };
+    char *const argv[] = { python,        script, (char *)csv_file, (char *)png_file, title_flag,
+                           (char *)title, NULL };
     pid_t pid;
     int rc = posix_spawn(&pid, python, NULL, NULL, argv, environ);
     if (rc != 0) {

@@ -55,10 +55,8 @@ static void compute_steady(const scenario_t *s, const sim_signal_t *sig, const d
     it->status = sim_metrics_offset_error(sig, ref, m->steady_t0_s, m->steady_t1_s, &it->value);
     report_item_t *fl = add_item(rep, "fluctuation", u, "fluctuation (max - min)/2", u);
     fl->status = sim_metrics_fluctuation(sig, m->steady_t0_s, m->steady_t1_s, &fl->value, NULL);
-    report_item_t *rate =
-        add_item(rep, "fluctuation_rate_percent", NULL, "fluctuation rate", "%");
-    rate->status = sim_metrics_fluctuation(sig, m->steady_t0_s, m->steady_t1_s, NULL,
-                                           &rate->value);
+    report_item_t *rate = add_item(rep, "fluctuation_rate_percent", NULL, "fluctuation rate", "%");
+    rate->status = sim_metrics_fluctuation(sig, m->steady_t0_s, m->steady_t1_s, NULL, &rate->value);
 }
 
 void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
@@ -79,8 +77,8 @@ void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
         compute_steady(s, &y, ser->ref, rep);
     }
     report_item_t *it = add_item(rep, "rms_tracking_error", u, "RMS tracking error", u);
-    it->status = sim_metrics_rms_error(&y, ser->ref, m->tracking_t0_s, m->tracking_t1_s,
-                                       &it->value);
+    it->status =
+        sim_metrics_rms_error(&y, ser->ref, m->tracking_t0_s, m->tracking_t1_s, &it->value);
     it = add_item(rep, "peak_phase_current_A", NULL, "peak phase current", "A");
     it->status = sim_metrics_peak_abs(&i_peak, 0.0, s->duration_s, &it->value);
     it = add_item(rep, "peak_phase_voltage_V", NULL, "peak phase voltage", "V");

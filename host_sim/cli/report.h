@@ -38,19 +38,19 @@
 #include "sim/scenario.h"
 
 #define REPORT_MAX_ITEMS 16
-#define REPORT_KEY_MAX 48
+#define REPORT_KEY_MAX   48
 
 typedef struct {
-    char key[REPORT_KEY_MAX];   /* JSON key, unit in the name */
-    char label[64];             /* table label */
-    char unit[8];               /* table unit */
+    char key[REPORT_KEY_MAX]; /* JSON key, unit in the name */
+    char label[64];           /* table label */
+    char unit[8];             /* table unit */
     double value;
     sim_metrics_status_t status; /* not OK: value unavailable */
 } report_item_t;
 
 typedef struct {
     double t_s;
-    double max_dip;             /* display unit */
+    double max_dip; /* display unit */
     double dip_time_s;
     sim_metrics_status_t status;
 } report_dip_t;
@@ -59,13 +59,13 @@ typedef struct {
 
 typedef struct {
     char name[SCENARIO_WINDOW_NAME_MAX];
-    double t0_s, t1_s;          /* profile time */
+    double t0_s, t1_s; /* profile time */
     report_item_t items[REPORT_WINDOW_ITEMS];
     size_t n_items;
 } report_window_t;
 
 typedef struct {
-    double time_offset_s;       /* profile time = simulated time - this */
+    double time_offset_s; /* profile time = simulated time - this */
     report_item_t items[REPORT_MAX_ITEMS];
     size_t n_items;
     report_dip_t dips[SCENARIO_MAX_LOAD_STEPS];
@@ -84,12 +84,10 @@ void report_compute_windows(const scenario_t *s, const run_series_t *ser, report
 
 void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep);
 
-void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res,
-                        const report_t *rep);
+void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res, const report_t *rep);
 
 /* Write the JSON metrics file; false with msg on an I/O error. */
 bool report_write_json(const char *file, const char *scenario_file, const scenario_t *s,
-                       const run_result_t *res, const report_t *rep, char *msg,
-                       size_t msg_size);
+                       const run_result_t *res, const report_t *rep, char *msg, size_t msg_size);
 
 #endif /* PMSM_SIM_REPORT_H */

@@ -7,8 +7,8 @@
 #include "drive_names.h"
 #include "report.h"
 
-#define ISR_COST_METHOD                                                                    \
-    "host thread CPU time of each firmware fast ISR (clock_gettime("                       \
+#define ISR_COST_METHOD                                                                            \
+    "host thread CPU time of each firmware fast ISR (clock_gettime("                               \
     "CLOCK_THREAD_CPUTIME_ID) via the host HAL cycle counter); host time, not MCU cycles"
 
 /* value, or null when unavailable (the reason goes to `unavailable`). */
@@ -103,8 +103,7 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
 }
 
 bool report_write_json(const char *file, const char *scenario_file, const scenario_t *s,
-                       const run_result_t *res, const report_t *rep, char *msg,
-                       size_t msg_size)
+                       const run_result_t *res, const report_t *rep, char *msg, size_t msg_size)
 {
     cJSON *root = build_json(scenario_file, s, res, rep);
     char *text = cJSON_Print(root);

@@ -14,15 +14,13 @@ static void print_value(FILE *f, const char *label, double value, sim_metrics_st
     }
 }
 
-void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res,
-                        const report_t *rep)
+void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res, const report_t *rep)
 {
     fprintf(f, "scenario %s: %s control, %.3f s simulated in %.2f s wall (%llu PWM periods)\n",
             s->name, scenario_mode_name(s->reference.mode), res->sim_s, res->wall_s,
             (unsigned long long)res->periods);
     if (rep->time_offset_s != 0.0) {
-        fprintf(f, "  (times below in profile time = simulated time - %g s)\n",
-                rep->time_offset_s);
+        fprintf(f, "  (times below in profile time = simulated time - %g s)\n", rep->time_offset_s);
     }
     fprintf(f, "  %-32s %14s  %s\n", "metric", "value", "unit");
     for (size_t i = 0; i < rep->n_items; i++) {
@@ -32,8 +30,7 @@ void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res,
     for (size_t i = 0; i < rep->n_dips; i++) {
         char label[64];
         snprintf(label, sizeof(label), "max dip after load step %.3g s", rep->dips[i].t_s);
-        print_value(f, label, rep->dips[i].max_dip, rep->dips[i].status,
-                    s->reference.display_unit);
+        print_value(f, label, rep->dips[i].max_dip, rep->dips[i].status, s->reference.display_unit);
     }
     for (size_t i = 0; i < rep->n_windows; i++) {
         const report_window_t *w = &rep->windows[i];

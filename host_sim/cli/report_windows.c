@@ -37,8 +37,8 @@ static void angle(const run_series_t *ser, double t0, double t1, report_window_t
 static void load_estimate(const run_series_t *ser, double t0, double t1, report_window_t *w)
 {
     const sim_signal_t hat = { .t = ser->t_s, .y = ser->tau_load_hat_Nm, .n = ser->n };
-    report_item_t *it = report_add_item(w->items, &w->n_items, "rms_load_estimate_error_Nm",
-                                        NULL, "RMS load estimate error", "N m");
+    report_item_t *it = report_add_item(w->items, &w->n_items, "rms_load_estimate_error_Nm", NULL,
+                                        "RMS load estimate error", "N m");
     it->status = sim_metrics_rms_error(&hat, ser->tau_load_Nm, t0, t1, &it->value);
     it = report_add_item(w->items, &w->n_items, "max_load_estimate_error_Nm", NULL,
                          "max |load estimate error|", "N m");
@@ -47,8 +47,7 @@ static void load_estimate(const run_series_t *ser, double t0, double t1, report_
 
 void report_compute_windows(const scenario_t *s, const run_series_t *ser, report_t *rep)
 {
-    const bool has_load_estimate =
-        s->controller.angle_source == MC_ANGLE_SOURCE_FLUX_OBSERVER;
+    const bool has_load_estimate = mc_config_estimator_info(&s->firmware).provides_load;
     for (size_t i = 0; i < s->metrics.n_windows; i++) {
         const scenario_window_t *sw = &s->metrics.windows[i];
         report_window_t *w = &rep->windows[rep->n_windows++];

@@ -10,8 +10,8 @@
 #include "angle_diff.h"
 #include "trace_csv.h"
 
-#define PROGRESS_AFTER_S 2.0
-#define PROGRESS_EVERY_S 1.0
+#define PROGRESS_AFTER_S    2.0
+#define PROGRESS_EVERY_S    1.0
 #define CLOCK_CHECK_PERIODS 4096u
 
 static double wall_now_s(void)
@@ -26,12 +26,8 @@ static mc_command_t command_at(const scenario_reference_t *ref, double t_s)
     mc_command_t cmd = { .enable = true, .mode = ref->mode };
     const double v = sim_profile_eval(&ref->value, t_s);
     switch (ref->mode) {
-    case MC_MODE_SPEED:
-        cmd.omega_m_ref_rad_s = (float)v;
-        break;
-    case MC_MODE_POSITION:
-        cmd.theta_m_ref_rad = (float)v;
-        break;
+    case MC_MODE_SPEED: cmd.omega_m_ref_rad_s = (float)v; break;
+    case MC_MODE_POSITION: cmd.theta_m_ref_rad = (float)v; break;
     case MC_MODE_CURRENT:
         cmd.i_q_ref_A = (float)v;
         cmd.i_d_ref_A = (float)sim_profile_eval(&ref->i_d_A, t_s);
@@ -61,9 +57,15 @@ static double max_abs3(const double x[3])
 
 static void series_arrays(run_series_t *s, double **out[SERIES_N_ARRAYS])
 {
-    double **all[SERIES_N_ARRAYS] = { &s->t_s,    &s->y,   &s->ref, &s->i_peak_A,
-                                      &s->v_peak_V, &s->angle_err_e_rad,
-                                      &s->tau_load_hat_Nm, &s->tau_load_Nm, &s->zero };
+    double **all[SERIES_N_ARRAYS] = { &s->t_s,
+                                      &s->y,
+                                      &s->ref,
+                                      &s->i_peak_A,
+                                      &s->v_peak_V,
+                                      &s->angle_err_e_rad,
+                                      &s->tau_load_hat_Nm,
+                                      &s->tau_load_Nm,
+                                      &s->zero };
     for (size_t i = 0; i < SERIES_N_ARRAYS; i++) {
         out[i] = all[i];
     }
@@ -108,8 +110,8 @@ static void record(run_result_t *res, uint64_t k, const scenario_t *s,
         ser->ref[j] = ref_si * scale;
         ser->i_peak_A[j] = i_peak;
         ser->v_peak_V[j] = v_peak;
-        ser->angle_err_e_rad[j] = angle_diff_rad((double)smp->fw.theta_e_rad,
-                                                 smp->plant.theta_e_rad);
+        ser->angle_err_e_rad[j] =
+            angle_diff_rad((double)smp->fw.theta_e_rad, smp->plant.theta_e_rad);
         ser->tau_load_hat_Nm[j] = (double)smp->fw.tau_L_hat_Nm;
         ser->tau_load_Nm[j] = smp->plant.tau_load_Nm;
     } else {
@@ -137,7 +139,7 @@ static void progress_update(progress_t *p, double sim_s, double duration_s)
 
 static bool setup_engine(const scenario_t *s, sim_engine_t *engine, char *msg, size_t msg_size)
 {
-    if (sim_engine_init(engine, &s->plant, &s->controller) != SIM_ENGINE_OK) {
+    if (sim_engine_init(engine, &s->plant, &s->firmware) != SIM_ENGINE_OK) {
         snprintf(msg, msg_size, "engine initialisation failed: %s", sim_engine_message(engine));
         return false;
     }
@@ -202,8 +204,8 @@ bool run_scenario(const scenario_t *s, const run_options_t *opt, run_result_t *r
     bool ok = setup_engine(s, engine, msg, msg_size);
     if (ok) {
         res->periods = (uint64_t)llround(s->duration_s / sim_engine_period_s(engine));
-        res->stride = (uint32_t)((res->periods + RUN_SERIES_MAX_SAMPLES - 1) /
-                                 RUN_SERIES_MAX_SAMPLES);
+        res->stride =
+            (uint32_t)((res->periods + RUN_SERIES_MAX_SAMPLES - 1) / RUN_SERIES_MAX_SAMPLES);
         if (res->stride == 0) {
             res->stride = 1;
         }

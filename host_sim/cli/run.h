@@ -20,10 +20,10 @@
 /* Metric series, values in the reference's display unit (rpm, rad, A). */
 typedef struct {
     double *t_s;
-    double *y;          /* controlled variable of the TRUE plant state */
-    double *ref;        /* reference given to the drive */
-    double *i_peak_A;   /* max |i_a|, |i_b|, |i_c| (true) over the block */
-    double *v_peak_V;   /* max |v_a|, |v_b|, |v_c| (plant, period averages) */
+    double *y;               /* controlled variable of the TRUE plant state */
+    double *ref;             /* reference given to the drive */
+    double *i_peak_A;        /* max |i_a|, |i_b|, |i_c| (true) over the block */
+    double *v_peak_V;        /* max |v_a|, |v_b|, |v_c| (plant, period averages) */
     double *angle_err_e_rad; /* controller's theta_e - true theta_e, wrapped to
                                 [-pi, pi) */
     double *tau_load_hat_Nm; /* firmware load-torque estimate (0 without one) */
@@ -34,27 +34,27 @@ typedef struct {
 
 typedef struct {
     run_series_t series;
-    uint32_t stride;            /* periods per series sample */
+    uint32_t stride; /* periods per series sample */
     uint64_t periods;
-    double sim_s;               /* simulated time */
-    double wall_s;              /* wall-clock time of the step loop */
-    double isr_cost_mean_s;     /* host thread CPU time per fast ISR */
+    double sim_s;           /* simulated time */
+    double wall_s;          /* wall-clock time of the step loop */
+    double isr_cost_mean_s; /* host thread CPU time per fast ISR */
     double isr_cost_max_s;
-    uint32_t faults_latched;    /* mc_fault_t bits at the end */
-    double first_fault_t_s;     /* NAN when no fault was latched */
+    uint32_t faults_latched; /* mc_fault_t bits at the end */
+    double first_fault_t_s;  /* NAN when no fault was latched */
     mc_state_t final_state;
 } run_result_t;
 
 typedef struct {
-    FILE *csv;                  /* decimated trace (NULL: none) */
-    bool keep_series;           /* false: skip the metric series (bench) */
-    bool progress;              /* progress on stderr once a run takes > 2 s */
+    FILE *csv;        /* decimated trace (NULL: none) */
+    bool keep_series; /* false: skip the metric series (bench) */
+    bool progress;    /* progress on stderr once a run takes > 2 s */
 } run_options_t;
 
 /* Run s. Returns false with a message on an engine error (the result is then
  * incomplete). Free the series with run_result_free() in every case. */
-bool run_scenario(const scenario_t *s, const run_options_t *opt, run_result_t *res,
-                  char *msg, size_t msg_size);
+bool run_scenario(const scenario_t *s, const run_options_t *opt, run_result_t *res, char *msg,
+                  size_t msg_size);
 
 void run_result_free(run_result_t *res);
 

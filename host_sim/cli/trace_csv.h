@@ -1,26 +1,28 @@
 /*
- * CSV trace of a closed-loop run, one row per recorded PWM period.
- *
- * Columns (SI; "_true" = plant state, the others as the firmware sees them):
- *   t_s, omega_m_rad_s (true), omega_m_est_rad_s, omega_m_ref_rad_s,
- *   theta_m_rad (true), theta_m_ref_rad, angle_error_e_rad (firmware theta_e
- *   minus true theta_e, wrapped to [-pi, pi)), i_d_A, i_q_A (true),
- *   i_d_ref_A, i_q_ref_A, i_a_A, i_b_A, i_c_A (true), v_d_ref_V, v_q_ref_V,
- *   v_a_V, v_b_V, v_c_V (plant phase voltages, period averages), v_dc_V,
- *   tau_e_Nm, tau_load_Nm (true), tau_load_est_Nm (firmware estimate, 0 with
- *   the encoder), state (mc_state_t), faults (mc_fault_t bits, latched),
- *   outputs_on (1 if the inverter switched during the period that starts
- *   at t_s, 0 if its outputs were off)
+ * CSV trace of a closed-loop run, one row per recorded PWM period. The
+ * columns (name, meaning, unit in the name) are the table in trace_csv.c,
+ * the one place they are defined: the header row and every data row are
+ * written from it, and the plot (tools/plot_trace.py) reads columns by
+ * name. "True" values are the plant state; the others are what the
+ * firmware sees or commands.
  */
 #ifndef PMSM_SIM_TRACE_CSV_H
 #define PMSM_SIM_TRACE_CSV_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 #include "sim_engine.h"
 
+/* The header row: the column names separated by commas. */
 void trace_csv_header(FILE *f);
 
+/* One data row of the sample. */
 void trace_csv_row(FILE *f, const sim_trace_sample_t *smp);
+
+/* Column i (i < trace_csv_column_count()): its name and meaning. */
+size_t trace_csv_column_count(void);
+const char *trace_csv_column_name(size_t i);
+const char *trace_csv_column_meaning(size_t i);
 
 #endif /* PMSM_SIM_TRACE_CSV_H */

@@ -14,8 +14,23 @@ static int fail(sim_engine_t *e, int code, const char *message)
     return code;
 }
 
-int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg,
-                    const mc_config_t *fw_cfg)
+void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw)
+{
+    const plant_motor_params_t *m = &plant->motor;
+    fw->motor = (mc_motor_params_t){
+        .R_ohm = (float)m->R_ohm,
+        .Ld_H = (float)m->Ld_H,
+        .Lq_H = (float)m->Lq_H,
+        .psi_Wb = (float)m->psi_Wb,
+        .pole_pairs = m->pole_pairs,
+        .J_kgm2 = (float)m->J_kgm2,
+        .B_Nm_s_rad = (float)m->B_Nm_s_rad,
+    };
+    fw->timing.f_pwm_Hz = (float)plant->inverter.f_pwm_Hz;
+    fw->encoder.counts_per_rev = 4u * plant->sensors.encoder.lines;
+}
+
+int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_config_t *fw_cfg)
 {
     if (e == NULL) {
         return SIM_ENGINE_ERR_NULL;
@@ -28,24 +43,29 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg,
         return fail(e, SIM_ENGINE_ERR_PLANT, plant_error_message(&e->plant));
     }
     const double f_plant = plant_cfg->inverter.f_pwm_Hz;
-    if (!(fabs((double)fw_cfg->f_pwm_hz - f_plant) <=
-          SIM_ENGINE_F_PWM_REL_TOL * f_plant)) {
+    if (!(fabs((double)fw_cfg->timing.f_pwm_Hz - f_plant) <= SIM_ENGINE_F_PWM_REL_TOL * f_plant)) {
         return fail(e, SIM_ENGINE_ERR_MISMATCH,
-                    "firmware f_pwm_hz differs from the plant's f_pwm_Hz");
+                    "firmware timing.f_pwm_Hz differs from the plant's f_pwm_Hz");
     }
     const uint32_t cpr = 4u * plant_cfg->sensors.encoder.lines;
-    if (cpr != fw_cfg->encoder_cpr) {
+    const uint32_t fw_cpr = mc_config_estimator_info(fw_cfg).encoder_cpr;
+    if (fw_cpr != 0u && fw_cpr != cpr) {
         return fail(e, SIM_ENGINE_ERR_MISMATCH,
-                    "firmware encoder_cpr differs from 4 x plant encoder lines");
+                    "firmware encoder.counts_per_rev differs from 4 x plant encoder lines");
     }
+    /* plant_init checked that the half-period update has even substeps */
+    const bool half = plant_cfg->inverter.duty_update == PLANT_DUTY_UPDATE_HALF_PERIOD;
+    e->half_period_update = half;
     hal_sim_mailbox_reset(&e->mailbox);
     e->mailbox.encoder_cpr = cpr;
+    e->mailbox.pwm_f_Hz = (float)f_plant;
+    e->mailbox.pwm_delay_periods =
+        half ? SIM_ENGINE_DELAY_HALF_PERIOD : SIM_ENGINE_DELAY_NEXT_PERIOD;
     hal_sim_bind(&e->mailbox);
     const mc_status_t st = mc_app_init(&e->app, fw_cfg);
     hal_sim_bind(NULL);
     if (st != MC_OK) {
-        return fail(e, SIM_ENGINE_ERR_FIRMWARE,
-                    "firmware config rejected by mc_app_init");
+        return fail(e, SIM_ENGINE_ERR_FIRMWARE, "firmware config rejected by mc_app_init");
     }
     for (unsigned k = 0u; k < 3u; ++k) {
         e->duty_next[k] = 0.5;
@@ -68,17 +88,15 @@ int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj)
     if (e->n_injections >= SIM_ENGINE_MAX_INJECTIONS) {
         return fail(e, SIM_ENGINE_ERR_INJECTION, "injection table is full");
     }
-    const bool is_current = inj->kind == SIM_INJECT_CURRENT_NAN ||
-                            inj->kind == SIM_INJECT_CURRENT_OFFSET;
-    const bool known = is_current || inj->kind == SIM_INJECT_VDC_MEASURED ||
-                       inj->kind == SIM_INJECT_FAULT_INPUT;
+    const bool is_current =
+        inj->kind == SIM_INJECT_CURRENT_NAN || inj->kind == SIM_INJECT_CURRENT_OFFSET;
+    const bool known =
+        is_current || inj->kind == SIM_INJECT_VDC_MEASURED || inj->kind == SIM_INJECT_FAULT_INPUT;
     if (!known) {
         return fail(e, SIM_ENGINE_ERR_INJECTION, "unknown injection kind");
     }
-    if (!isfinite(inj->t_start_s) || isnan(inj->t_end_s) ||
-        !(inj->t_end_s >= inj->t_start_s)) {
-        return fail(e, SIM_ENGINE_ERR_INJECTION,
-                    "injection needs a finite start and end >= start");
+    if (!isfinite(inj->t_start_s) || isnan(inj->t_end_s) || !(inj->t_end_s >= inj->t_start_s)) {
+        return fail(e, SIM_ENGINE_ERR_INJECTION, "injection needs a finite start and end >= start");
     }
     if (is_current && inj->phase > 2u) {
         return fail(e, SIM_ENGINE_ERR_INJECTION, "injection phase must be 0..2");
@@ -94,8 +112,7 @@ int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj)
 
 /* Apply the injections active at m->t_s; returns their bit mask and sets
  * *fault_input. */
-static uint32_t apply_injections(const sim_engine_t *e, plant_measurement_t *m,
-                                 bool *fault_input)
+static uint32_t apply_injections(const sim_engine_t *e, plant_measurement_t *m, bool *fault_input)
 {
     uint32_t active = 0u;
     *fault_input = false;
@@ -106,27 +123,18 @@ static uint32_t apply_injections(const sim_engine_t *e, plant_measurement_t *m,
         }
         active |= 1u << i;
         switch (inj->kind) {
-        case SIM_INJECT_CURRENT_NAN:
-            m->i_abc_A[inj->phase] = NAN;
-            break;
-        case SIM_INJECT_CURRENT_OFFSET:
-            m->i_abc_A[inj->phase] += inj->value;
-            break;
-        case SIM_INJECT_VDC_MEASURED:
-            m->v_dc_V = inj->value;
-            break;
+        case SIM_INJECT_CURRENT_NAN: m->i_abc_A[inj->phase] = NAN; break;
+        case SIM_INJECT_CURRENT_OFFSET: m->i_abc_A[inj->phase] += inj->value; break;
+        case SIM_INJECT_VDC_MEASURED: m->v_dc_V = inj->value; break;
         case SIM_INJECT_FAULT_INPUT:
-        default:
-            *fault_input = true;
-            break;
+        default: *fault_input = true; break;
         }
     }
     return active;
 }
 
 /* Measurement -> mailbox (the ADC and encoder registers of the host). */
-static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m,
-                         bool fault_input)
+static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m, bool fault_input)
 {
     for (unsigned k = 0u; k < 3u; ++k) {
         mb->adc.i_abc_A[k] = (float)m->i_abc_A[k];
@@ -174,16 +182,20 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
     hal_sim_bind(NULL);
     s->cmd = *cmd;
 
-    /* 4. Advance with the previous ISR's duties; enable is delayed like
-     * the duties, disable is immediate. */
+    /* 4. Advance: the previous ISR's duties until the update event, this
+     * ISR's after it; enable is delayed like the duties, disable is
+     * immediate. */
     const bool outputs_now = hal_sim_outputs_active(&e->mailbox);
     s->outputs_applied = e->outputs_next && outputs_now;
     for (unsigned k = 0u; k < 3u; ++k) {
         s->duty_applied[k] = e->duty_next[k];
-    }
-    plant_advance(&e->plant, s->duty_applied, s->outputs_applied);
-    for (unsigned k = 0u; k < 3u; ++k) {
         e->duty_next[k] = (double)e->mailbox.duty_abc[k];
+    }
+    if (e->half_period_update) {
+        plant_advance_split(&e->plant, s->duty_applied, s->outputs_applied, e->duty_next,
+                            outputs_now);
+    } else {
+        plant_advance(&e->plant, s->duty_applied, s->outputs_applied);
     }
     e->outputs_next = outputs_now;
     e->k++;

@@ -6,13 +6,18 @@
  *   1. plant_sample(): currents, v_dc, encoder at the PWM centre t_k;
  *   2. active fault injections edit that measurement / the fault input;
  *   3. the host HAL mailbox gets the sample, the firmware fast ISR runs;
- *   4. plant_advance() over [t_k, t_k + Ts) with the duties of the PREVIOUS
- *      ISR (the real drive's one-period delay: duties computed from the
- *      sample at t_k are latched at the next period start). The PWM outputs
- *      follow the same delay when they are ENABLED, but a disable is
- *      immediate (no shadow register), so an ISR that trips a fault at t_k
- *      stops the inverter for [t_k, t_k + Ts) already.
- *      Average delay sample -> applied voltage: 1 period + 1/2 (ZOH) = 1.5 Ts.
+ *   4. the plant advances over [t_k, t_k + Ts). The duties latch at the
+ *      inverter's update event (plant inverter.duty_update):
+ *      PLANT_DUTY_UPDATE_NEXT_PERIOD (default): at t_{k+1}, so the period
+ *        runs on the PREVIOUS ISR's duties; ISR k's act over
+ *        [t_{k+1}, t_{k+2}): sample-to-apply delay 1.5 periods;
+ *      PLANT_DUTY_UPDATE_HALF_PERIOD: at t_k + Ts/2 (plant_advance_split):
+ *        ISR k's act over [t_k + Ts/2, t_{k+1} + Ts/2): delay 1.0 period.
+ *      The engine reports that delay to the firmware through the HAL
+ *      (hal/pwm.h). The PWM outputs follow the same update when they are
+ *      ENABLED, but a disable is immediate (no shadow register), so an ISR
+ *      that trips a fault at t_k stops the inverter for [t_k, t_k + Ts)
+ *      already.
  *   5. the trace sample of period k is recorded (sim_engine_last()).
  *
  * The firmware sees the plant only through the HAL. The plant and firmware
@@ -38,16 +43,20 @@
 
 #define SIM_ENGINE_MAX_INJECTIONS 16u
 
+/* Sample-to-apply delays of the two duty-update models (periods). */
+#define SIM_ENGINE_DELAY_NEXT_PERIOD 1.5f
+#define SIM_ENGINE_DELAY_HALF_PERIOD 1.0f
+
 typedef enum {
     SIM_ENGINE_OK = 0,
     SIM_ENGINE_ERR_NULL = -1,
-    SIM_ENGINE_ERR_PLANT = -2,      /* plant_init failed (see the message) */
-    SIM_ENGINE_ERR_MISMATCH = -3,   /* plant and firmware disagree (PWM
-                                       frequency, encoder cpr) */
-    SIM_ENGINE_ERR_FIRMWARE = -4,   /* mc_app_init failed */
-    SIM_ENGINE_ERR_INJECTION = -5,  /* invalid injection or table full */
-    SIM_ENGINE_ERR_COMMAND = -6,    /* mc_app_set_command rejected it */
-    SIM_ENGINE_ERR_STATE = -7       /* step on an engine whose init failed */
+    SIM_ENGINE_ERR_PLANT = -2,     /* plant_init failed (see the message) */
+    SIM_ENGINE_ERR_MISMATCH = -3,  /* plant and firmware disagree (PWM
+                                      frequency, encoder cpr) */
+    SIM_ENGINE_ERR_FIRMWARE = -4,  /* mc_app_init failed */
+    SIM_ENGINE_ERR_INJECTION = -5, /* invalid injection or table full */
+    SIM_ENGINE_ERR_COMMAND = -6,   /* mc_app_set_command rejected it */
+    SIM_ENGINE_ERR_STATE = -7      /* step on an engine whose init failed */
 } sim_engine_err_t;
 
 typedef enum {
@@ -60,26 +69,27 @@ typedef enum {
 
 typedef struct {
     sim_inject_kind_t kind;
-    double t_start_s;   /* active for t_start_s <= t_k < t_end_s */
-    double t_end_s;     /* may be INFINITY */
-    uint32_t phase;     /* 0, 1, 2 (a, b, c) for the current kinds */
-    double value;       /* A or V, see the kind */
+    double t_start_s; /* active for t_start_s <= t_k < t_end_s */
+    double t_end_s;   /* may be INFINITY */
+    uint32_t phase;   /* 0, 1, 2 (a, b, c) for the current kinds */
+    double value;     /* A or V, see the kind */
 } sim_injection_t;
 
 /* Everything about PWM period k. */
 typedef struct {
-    uint64_t k;                   /* period index */
-    double t_s;                   /* t_k = k Ts, the sampling instant */
-    plant_true_state_t plant;     /* true plant state at t_k (its v_abc are
-                                     the averages over the previous period) */
-    plant_measurement_t meas;     /* what the HAL delivered (after the
-                                     injections) */
-    uint32_t injections_active;   /* bit i: injection i was active at t_k */
-    mc_command_t cmd;             /* command given for this step */
-    mc_telemetry_t fw;            /* firmware telemetry of the ISR at t_k */
-    double duty_applied[3];       /* duties the inverter used in
-                                     [t_k, t_k + Ts) */
-    bool outputs_applied;         /* inverter switching in [t_k, t_k + Ts) */
+    uint64_t k;                 /* period index */
+    double t_s;                 /* t_k = k Ts, the sampling instant */
+    plant_true_state_t plant;   /* true plant state at t_k (its v_abc are
+                                   the averages over the previous period) */
+    plant_measurement_t meas;   /* what the HAL delivered (after the
+                                   injections) */
+    uint32_t injections_active; /* bit i: injection i was active at t_k */
+    mc_command_t cmd;           /* command given for this step */
+    mc_telemetry_t fw;          /* firmware telemetry of the ISR at t_k */
+    double duty_applied[3];     /* duties the inverter used from t_k
+                                   (to t_k + Ts, or to t_k + Ts/2 with the
+                                   half-period update) */
+    bool outputs_applied;       /* inverter switching in [t_k, t_k + Ts) */
 } sim_trace_sample_t;
 
 /* Private: the caller owns the storage; use the functions below. */
@@ -87,8 +97,9 @@ typedef struct {
     plant_t plant;
     mc_app_t app;
     hal_sim_mailbox_t mailbox;
-    double duty_next[3];          /* latched by the last ISR */
+    double duty_next[3]; /* latched by the last ISR */
     bool outputs_next;
+    bool half_period_update; /* plant inverter.duty_update */
     sim_injection_t injections[SIM_ENGINE_MAX_INJECTIONS];
     uint32_t n_injections;
     uint64_t k;
@@ -97,11 +108,16 @@ typedef struct {
     const char *message;
 } sim_engine_t;
 
+/* The firmware values the bench takes from the plant: the nominal motor
+ * (the controller's model; the plant applies its mismatch), the PWM rate
+ * and the encoder resolution (4 x lines). The rest of *fw is kept.
+ * Call after mc_config_init_default() (or on any configuration). */
+void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw);
+
 /* Initialise plant and firmware (the firmware enters IDLE with the PWM
  * off). Returns SIM_ENGINE_OK or a negative sim_engine_err_t; the message
  * (sim_engine_message) says what is wrong. */
-int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg,
-                    const mc_config_t *fw_cfg);
+int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_config_t *fw_cfg);
 
 /* Static sentence about the last init/add/step result ("ok"). */
 const char *sim_engine_message(const sim_engine_t *e);

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stdbool.h>
 
-#define RISE_LOW_LEVEL 0.1
+#define RISE_LOW_LEVEL  0.1
 #define RISE_HIGH_LEVEL 0.9
 
 const char *sim_metrics_status_str(sim_metrics_status_t status)
@@ -232,8 +232,8 @@ sim_metrics_status_t sim_metrics_fluctuation(const sim_signal_t *sig, double t0_
     return SIM_METRICS_OK;
 }
 
-sim_metrics_status_t sim_metrics_rms_error(const sim_signal_t *sig, const double *ref,
-                                           double t0_s, double t1_s, double *rms_error)
+sim_metrics_status_t sim_metrics_rms_error(const sim_signal_t *sig, const double *ref, double t0_s,
+                                           double t1_s, double *rms_error)
 {
     size_t first;
     size_t last;
@@ -254,8 +254,8 @@ sim_metrics_status_t sim_metrics_rms_error(const sim_signal_t *sig, const double
 }
 
 sim_metrics_status_t sim_metrics_max_dip(const sim_signal_t *sig, const double *ref,
-                                         double t_step_s, double window_s,
-                                         double *max_dip, double *dip_time_s)
+                                         double t_step_s, double window_s, double *max_dip,
+                                         double *dip_time_s)
 {
     size_t first;
     size_t last;

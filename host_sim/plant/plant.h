@@ -77,162 +77,170 @@
  * (1 us). PLANT_SUBSTEPS_FAST is the fast option (see plant_config_t). */
 #define PLANT_DEFAULT_F_PWM_HZ 20000.0
 #define PLANT_DEFAULT_SUBSTEPS 50u
-#define PLANT_SUBSTEPS_FAST 4u
+#define PLANT_SUBSTEPS_FAST    4u
 
 typedef struct {
-  uint32_t slots;       /* Q: number of stator slots */
-  uint32_t n_harmonics; /* 0 = no cogging */
-  double amplitude_Nm[PLANT_MAX_COG_HARMONICS]; /* A_k of harmonic k+1 */
-  double phase_rad[PLANT_MAX_COG_HARMONICS];    /* phi_k of harmonic k+1 */
+    uint32_t slots;                               /* Q: number of stator slots */
+    uint32_t n_harmonics;                         /* 0 = no cogging */
+    double amplitude_Nm[PLANT_MAX_COG_HARMONICS]; /* A_k of harmonic k+1 */
+    double phase_rad[PLANT_MAX_COG_HARMONICS];    /* phi_k of harmonic k+1 */
 } plant_cogging_t;
 
 typedef struct {
-  double R_ohm;
-  double Ld_H;
-  double Lq_H; /* Ld == Lq: surface-mounted */
-  double psi_Wb;
-  uint32_t pole_pairs;
-  double J_kgm2;
-  double B_Nm_s_rad;
-  double tau_coulomb_Nm;            /* 0 = none */
-  double coulomb_eps_rad_s;         /* smoothing speed, > 0 if tau_coulomb */
-  plant_cogging_t cogging;
-  double g3_amplitude_per_kgm2;     /* A of g3 = 1/J + A sin(Omega t) */
-  double g3_omega_rad_s;            /* Omega; |A| < 1/J required */
+    double R_ohm;
+    double Ld_H;
+    double Lq_H; /* Ld == Lq: surface-mounted */
+    double psi_Wb;
+    uint32_t pole_pairs;
+    double J_kgm2;
+    double B_Nm_s_rad;
+    double tau_coulomb_Nm;    /* 0 = none */
+    double coulomb_eps_rad_s; /* smoothing speed, > 0 if tau_coulomb */
+    plant_cogging_t cogging;
+    double g3_amplitude_per_kgm2; /* A of g3 = 1/J + A sin(Omega t) */
+    double g3_omega_rad_s;        /* Omega; |A| < 1/J required */
 } plant_motor_params_t;
 
 typedef struct { /* plant = nominal * multiplier; all 1 = no mismatch */
-  double R;
-  double L; /* both axes */
-  double psi;
-  double J;
+    double R;
+    double L; /* both axes */
+    double psi;
+    double J;
 } plant_mismatch_t;
 
+/* When the inverter latches the duties computed from a sample (the timer's
+ * update event; the engine applies it, see sim_engine.h). */
+typedef enum {
+    PLANT_DUTY_UPDATE_NEXT_PERIOD = 0, /* at the next period start: 1.5 Ts */
+    PLANT_DUTY_UPDATE_HALF_PERIOD      /* half a period later: 1.0 Ts */
+} plant_duty_update_t;
+
 typedef struct {
-  double f_pwm_Hz;
-  sim_profile_t v_dc_V;
-  double t_dead_s;
-  double v_device_drop_V;
-  double dead_time_current_band_A; /* 0 = hard sign(i) */
+    double f_pwm_Hz;
+    plant_duty_update_t duty_update;
+    sim_profile_t v_dc_V;
+    double t_dead_s;
+    double v_device_drop_V;
+    double dead_time_current_band_A; /* 0 = hard sign(i) */
 } plant_inverter_params_t;
 
 typedef struct {
-  double gain[3];      /* per phase, 1 = ideal */
-  double offset_A[3];
-  double noise_rms_A;
-  uint32_t adc_bits;   /* 0 = ideal (no quantisation), else 1..24 */
-  double full_scale_A; /* measurable range [-full_scale, +full_scale) */
+    double gain[3]; /* per phase, 1 = ideal */
+    double offset_A[3];
+    double noise_rms_A;
+    uint32_t adc_bits;   /* 0 = ideal (no quantisation), else 1..24 */
+    double full_scale_A; /* measurable range [-full_scale, +full_scale) */
 } plant_current_sensor_t;
 
 typedef struct {
-  double gain;
-  double offset_V;
-  double noise_rms_V;
-  uint32_t adc_bits;   /* 0 = ideal, else 1..24 */
-  double full_scale_V; /* range [0, full_scale) */
+    double gain;
+    double offset_V;
+    double noise_rms_V;
+    uint32_t adc_bits;   /* 0 = ideal, else 1..24 */
+    double full_scale_V; /* range [0, full_scale) */
 } plant_vdc_sensor_t;
 
 typedef struct {
-  uint32_t lines;    /* 0 = no encoder; cpr = 4 * lines */
-  double offset_rad; /* mechanical, added to theta_m */
+    uint32_t lines;    /* 0 = no encoder; cpr = 4 * lines */
+    double offset_rad; /* mechanical, added to theta_m */
 } plant_encoder_t;
 
 typedef struct {
-  plant_current_sensor_t current;
-  plant_vdc_sensor_t vdc;
-  plant_encoder_t encoder;
-  uint64_t seed;
+    plant_current_sensor_t current;
+    plant_vdc_sensor_t vdc;
+    plant_encoder_t encoder;
+    uint64_t seed;
 } plant_sensor_params_t;
 
 typedef struct {
-  plant_motor_params_t motor;
-  plant_mismatch_t mismatch;
-  plant_inverter_params_t inverter;
-  plant_sensor_params_t sensors;
-  sim_profile_t load_torque_Nm; /* opposes positive rotation when > 0 */
-  /* Classic RK4 steps per PWM period. PLANT_DEFAULT_SUBSTEPS (1 us at
-   * 20 kHz) is the reference; PLANT_SUBSTEPS_FAST (12.5 us) is the fast
-   * option, ~10x faster: test_plant_electrical keeps it within 1e-5 A and
-   * 1e-7 rad/s of the reference over 1 s of random duties at 3000 rpm (with
-   * dead time, dead_time_current_band_A > 0). With the hard sign(i)
-   * dead-time model the zero crossings are discontinuities that no fixed
-   * step resolves: both step sizes then chatter around i = 0 differently. */
-  uint32_t substeps_per_period;
-  bool locked_rotor; /* omega_m held at 0, theta_m at theta_m0 */
-  double theta_m0_rad;
-  double omega_m0_rad_s;
+    plant_motor_params_t motor;
+    plant_mismatch_t mismatch;
+    plant_inverter_params_t inverter;
+    plant_sensor_params_t sensors;
+    sim_profile_t load_torque_Nm; /* opposes positive rotation when > 0 */
+    /* Classic RK4 steps per PWM period. PLANT_DEFAULT_SUBSTEPS (1 us at
+     * 20 kHz) is the reference; PLANT_SUBSTEPS_FAST (12.5 us) is the fast
+     * option, ~10x faster: test_plant_electrical keeps it within 1e-5 A and
+     * 1e-7 rad/s of the reference over 1 s of random duties at 3000 rpm (with
+     * dead time, dead_time_current_band_A > 0). With the hard sign(i)
+     * dead-time model the zero crossings are discontinuities that no fixed
+     * step resolves: both step sizes then chatter around i = 0 differently. */
+    uint32_t substeps_per_period;
+    bool locked_rotor; /* omega_m held at 0, theta_m at theta_m0 */
+    double theta_m0_rad;
+    double omega_m0_rad_s;
 } plant_config_t;
 
-typedef struct { /* all in J, integrated with the state (RK4) from t = 0 */
-  double bus_J;        /* int v_dc * sum d_x i_x dt (drawn from the bus) */
-  double electrical_J; /* int sum v_x i_x dt  (into the motor terminals) */
-  double copper_J;     /* int 1.5 R (i_d^2 + i_q^2) dt */
-  double friction_J;   /* int omega_m (B omega_m + tau_coul) dt */
-  double load_J;       /* int omega_m tau_load dt */
-  double cogging_J;    /* int omega_m tau_cog dt */
+typedef struct {         /* all in J, integrated with the state (RK4) from t = 0 */
+    double bus_J;        /* int v_dc * sum d_x i_x dt (drawn from the bus) */
+    double electrical_J; /* int sum v_x i_x dt  (into the motor terminals) */
+    double copper_J;     /* int 1.5 R (i_d^2 + i_q^2) dt */
+    double friction_J;   /* int omega_m (B omega_m + tau_coul) dt */
+    double load_J;       /* int omega_m tau_load dt */
+    double cogging_J;    /* int omega_m tau_cog dt */
 } plant_energy_t;
 
 typedef struct {
-  double t_s;
-  double i_d_A, i_q_A;
-  double i_abc_A[3];
-  double omega_m_rad_s;
-  double theta_m_rad;  /* continuous */
-  double theta_e_rad;  /* n_p * theta_m wrapped to [0, 2 pi) */
-  double tau_e_Nm;
-  double tau_load_Nm;
-  double tau_cog_Nm;
-  double tau_friction_Nm; /* B omega + Coulomb */
-  double v_abc_V[3];   /* phase voltages averaged over the last period */
-  double v_dc_V;       /* bus voltage held during the last period */
-  bool outputs_enabled;
-  bool open_circuit;   /* disabled and currents extinguished */
-  bool rectification_unmodelled; /* see the inverter notes above */
-  plant_energy_t energy;
+    double t_s;
+    double i_d_A, i_q_A;
+    double i_abc_A[3];
+    double omega_m_rad_s;
+    double theta_m_rad; /* continuous */
+    double theta_e_rad; /* n_p * theta_m wrapped to [0, 2 pi) */
+    double tau_e_Nm;
+    double tau_load_Nm;
+    double tau_cog_Nm;
+    double tau_friction_Nm; /* B omega + Coulomb */
+    double v_abc_V[3];      /* phase voltages averaged over the last period */
+    double v_dc_V;          /* bus voltage held during the last period */
+    bool outputs_enabled;
+    bool open_circuit;             /* disabled and currents extinguished */
+    bool rectification_unmodelled; /* see the inverter notes above */
+    plant_energy_t energy;
 } plant_true_state_t;
 
 typedef struct {
-  double t_s;
-  double i_abc_A[3];
-  double v_dc_V;
-  uint32_t encoder_count; /* 0 .. 4*lines - 1 */
-  bool encoder_index;     /* index crossed since the previous sample */
+    double t_s;
+    double i_abc_A[3];
+    double v_dc_V;
+    uint32_t encoder_count; /* 0 .. 4*lines - 1 */
+    bool encoder_index;     /* index crossed since the previous sample */
 } plant_measurement_t;
 
 typedef enum {
-  PLANT_OK = 0,
-  PLANT_ERR_NULL = -1,
-  PLANT_ERR_MOTOR = -2,    /* bad motor parameter */
-  PLANT_ERR_MISMATCH = -3, /* multiplier not finite and > 0 */
-  PLANT_ERR_INVERTER = -4,
-  PLANT_ERR_SENSOR = -5,
-  PLANT_ERR_PROFILE = -6,  /* v_dc or load profile invalid */
-  PLANT_ERR_SOLVER = -7,   /* substeps / initial state */
-  PLANT_ERR_STATE = -8     /* plant_advance on a non-initialised plant */
+    PLANT_OK = 0,
+    PLANT_ERR_NULL = -1,
+    PLANT_ERR_MOTOR = -2,    /* bad motor parameter */
+    PLANT_ERR_MISMATCH = -3, /* multiplier not finite and > 0 */
+    PLANT_ERR_INVERTER = -4,
+    PLANT_ERR_SENSOR = -5,
+    PLANT_ERR_PROFILE = -6, /* v_dc or load profile invalid */
+    PLANT_ERR_SOLVER = -7,  /* substeps / initial state */
+    PLANT_ERR_STATE = -8    /* plant_advance on a non-initialised plant */
 } plant_err_t;
 
 #define PLANT_PRIVATE_STATE_LEN 13u
 
 /* Private: the caller owns the storage; use the functions below. */
 typedef struct {
-  plant_config_t cfg;
-  double R_ohm, Ld_H, Lq_H, psi_Wb, inv_J_per_kgm2; /* with mismatch */
-  double n_p;
-  double cog_cos_phi[PLANT_MAX_COG_HARMONICS];
-  double cog_sin_phi[PLANT_MAX_COG_HARMONICS];
-  double period_s, h_s;
-  double x[PLANT_PRIVATE_STATE_LEN];
-  double t_s;
-  uint64_t n_periods; /* t_s = n_periods * period_s */
-  bool open_circuit;
-  bool rectification_unmodelled;
-  uint64_t rng_state;
-  bool have_spare_gauss;
-  double spare_gauss;
-  int64_t encoder_turns; /* floor((theta_m + offset) / 2 pi) at last sample */
-  plant_true_state_t view;
-  const char *err_msg;
-  bool initialised;
+    plant_config_t cfg;
+    double R_ohm, Ld_H, Lq_H, psi_Wb, inv_J_per_kgm2; /* with mismatch */
+    double n_p;
+    double cog_cos_phi[PLANT_MAX_COG_HARMONICS];
+    double cog_sin_phi[PLANT_MAX_COG_HARMONICS];
+    double period_s, h_s;
+    double x[PLANT_PRIVATE_STATE_LEN];
+    double t_s;
+    uint64_t n_periods; /* t_s = n_periods * period_s */
+    bool open_circuit;
+    bool rectification_unmodelled;
+    uint64_t rng_state;
+    bool have_spare_gauss;
+    double spare_gauss;
+    int64_t encoder_turns; /* floor((theta_m + offset) / 2 pi) at last sample */
+    plant_true_state_t view;
+    const char *err_msg;
+    bool initialised;
 } plant_t;
 
 /* Fills a valid config: the paper 001 motor (R 0.225 ohm, L 3.8 mH,
@@ -259,6 +267,15 @@ void plant_sample(plant_t *p, plant_measurement_t *m);
 /* Integrates exactly one PWM period (1/f_pwm) with duty_abc held (clamped to
  * [0, 1]); outputs_enabled == false models all switches off (see above). */
 void plant_advance(plant_t *p, const double duty_abc[3], bool outputs_enabled);
+
+/* Integrates one PWM period whose first half has duty_first / outputs_first
+ * and second half duty_second / outputs_second (duties that change at the
+ * middle of the period: an update event half a period after the sample).
+ * plant_config_validate requires an even substeps_per_period with
+ * PLANT_DUTY_UPDATE_HALF_PERIOD, so the change falls on a substep boundary
+ * (called with an odd count, the change is at substep floor(n/2)). */
+void plant_advance_split(plant_t *p, const double duty_first[3], bool outputs_first,
+                         const double duty_second[3], bool outputs_second);
 
 /* Integrates one PWM period with an IDEAL rotor-frame voltage source
  * v_d, v_q (no inverter, no dead time): model checks and identification. */

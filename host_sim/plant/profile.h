@@ -13,7 +13,7 @@
  *   2. sinusoids  a * sin(2*pi*f*(t - t_start) + phase), zero for t < t_start.
  *   3. a polynomial  sum_k c_k * (t - t_start)^k, zero for t < t_start.
  *   4. band-limited noise: a sum of SIM_PROFILE_NOISE_TONES sinusoids with
- *      seeded random phases and frequencies stratified over (0, cutoff_hz]
+ *      seeded random phases and frequencies stratified over (0, cutoff_Hz]
  *      (tone k lies in (k, k+1] * cutoff/N), equal amplitudes so that the
  *      RMS over a long window is rms. Deterministic for a given seed and
  *      evaluable at any t (RK4 stages need that). rms == 0 disables it.
@@ -28,52 +28,52 @@
 
 #include <stdint.h>
 
-#define SIM_PROFILE_MAX_POINTS 32u
-#define SIM_PROFILE_MAX_SINES 8u
+#define SIM_PROFILE_MAX_POINTS      32u
+#define SIM_PROFILE_MAX_SINES       8u
 #define SIM_PROFILE_MAX_POLY_COEFFS 6u /* c_0 .. c_5 */
-#define SIM_PROFILE_NOISE_TONES 16u
+#define SIM_PROFILE_NOISE_TONES     16u
 
 typedef struct {
-  double t_s;
-  double value;
+    double t_s;
+    double value;
 } sim_profile_point_t;
 
 typedef struct {
-  double amplitude;
-  double freq_hz;
-  double phase_rad;
-  double t_start_s; /* the sinusoid is 0 before this time */
+    double amplitude;
+    double freq_Hz;
+    double phase_rad;
+    double t_start_s; /* the sinusoid is 0 before this time */
 } sim_profile_sine_t;
 
 typedef struct {
-  double coeffs[SIM_PROFILE_MAX_POLY_COEFFS]; /* c_k of (t - t_start)^k */
-  uint32_t n_coeffs;                          /* 0 = no polynomial */
-  double t_start_s;                           /* 0 before this time */
+    double coeffs[SIM_PROFILE_MAX_POLY_COEFFS]; /* c_k of (t - t_start)^k */
+    uint32_t n_coeffs;                          /* 0 = no polynomial */
+    double t_start_s;                           /* 0 before this time */
 } sim_profile_poly_t;
 
 typedef struct {
-  double rms;       /* 0 = no noise */
-  double cutoff_hz; /* highest tone frequency, > 0 when rms > 0 */
-  uint64_t seed;
+    double rms;       /* 0 = no noise */
+    double cutoff_Hz; /* highest tone frequency, > 0 when rms > 0 */
+    uint64_t seed;
 } sim_profile_noise_t;
 
 typedef struct {
-  sim_profile_point_t points[SIM_PROFILE_MAX_POINTS];
-  uint32_t n_points;
-  sim_profile_sine_t sines[SIM_PROFILE_MAX_SINES];
-  uint32_t n_sines;
-  sim_profile_poly_t poly;
-  sim_profile_noise_t noise;
+    sim_profile_point_t points[SIM_PROFILE_MAX_POINTS];
+    uint32_t n_points;
+    sim_profile_sine_t sines[SIM_PROFILE_MAX_SINES];
+    uint32_t n_sines;
+    sim_profile_poly_t poly;
+    sim_profile_noise_t noise;
 } sim_profile_t;
 
 typedef enum {
-  SIM_PROFILE_OK = 0,
-  SIM_PROFILE_ERR_NULL = -1,
-  SIM_PROFILE_ERR_TOO_MANY = -2,   /* n_points / n_sines / n_coeffs too big */
-  SIM_PROFILE_ERR_NONFINITE = -3,  /* NaN or Inf anywhere in use */
-  SIM_PROFILE_ERR_TIME_ORDER = -4, /* breakpoint times decreasing */
-  SIM_PROFILE_ERR_NEGATIVE = -5,   /* negative frequency, rms or cutoff */
-  SIM_PROFILE_ERR_NOISE_CUTOFF = -6 /* rms > 0 with cutoff_hz == 0 */
+    SIM_PROFILE_OK = 0,
+    SIM_PROFILE_ERR_NULL = -1,
+    SIM_PROFILE_ERR_TOO_MANY = -2,    /* n_points / n_sines / n_coeffs too big */
+    SIM_PROFILE_ERR_NONFINITE = -3,   /* NaN or Inf anywhere in use */
+    SIM_PROFILE_ERR_TIME_ORDER = -4,  /* breakpoint times decreasing */
+    SIM_PROFILE_ERR_NEGATIVE = -5,    /* negative frequency, rms or cutoff */
+    SIM_PROFILE_ERR_NOISE_CUTOFF = -6 /* rms > 0 with cutoff_Hz == 0 */
 } sim_profile_err_t;
 
 /* All parts empty: v(t) = 0. */

@@ -31,7 +31,7 @@ typedef struct {
 
 static inline test_rng_t test_rng_seed(uint64_t seed)
 {
-    test_rng_t r = {seed ? seed : 0x9E3779B97F4A7C15ull};
+    test_rng_t r = { seed ? seed : 0x9E3779B97F4A7C15ull };
     return r;
 }
 

@@ -5,6 +5,8 @@
  *
  * Build-time scenario (QEMU_P001_SCENARIO):
  *   1 FOC     encoder + PLL, cascaded FOC PI (mc_config_init_default)
+ * (the firmware takes the motor, PWM rate and encoder from the plant:
+ * sim_engine_firmware_from_plant)
  *   2 IDAPBC  sensorless: flux observer + I&I speed/load observer, IDA-PBC
  *   3 NAM     sensorless baseline: flux observer + PLL, FOC PI
  * Timeline (t_r = time since the first RUN ISR): enable at t = 0
@@ -34,22 +36,22 @@
 
 #if QEMU_P001_SCENARIO == 1
 #define SCEN_NAME "foc_encoder"
-#define W_REF 20.0      /* rad/s mechanical (191 rpm) */
-#define T_STEP 0.01     /* s after RUN */
-#define T_LOAD 0.5      /* s absolute */
-#define T_END 1.0
+#define W_REF     20.0 /* rad/s mechanical (191 rpm) */
+#define T_STEP    0.01 /* s after RUN */
+#define T_LOAD    0.5  /* s absolute */
+#define T_END     1.0
 #else
 #if QEMU_P001_SCENARIO == 2
 #define SCEN_NAME "idapbc_sensorless"
 #else
 #define SCEN_NAME "nam_sensorless"
 #endif
-#define W_REF 5.0       /* rad/s mechanical (48 rpm, paper 001's 50 rpm) */
+#define W_REF  5.0 /* rad/s mechanical (48 rpm, paper 001's 50 rpm) */
 #define T_STEP 0.01
-#define T_LOAD 1.8     /* ALIGN ends at about 1.31 s from theta = 0 */
-#define T_END 2.6
+#define T_LOAD 1.8 /* ALIGN ends at about 1.31 s from theta = 0 */
+#define T_END  2.6
 #endif
-#define TAU_L 0.5       /* N m */
+#define TAU_L          0.5 /* N m */
 #define T_CHECK_NOLOAD (T_LOAD - 0.01)
 
 static sim_engine_t engine;
@@ -84,11 +86,12 @@ int main(void)
 
     mc_config_t fc;
     mc_config_init_default(&fc);
+    sim_engine_firmware_from_plant(&pc, &fc);
 #if QEMU_P001_SCENARIO == 2
-    fc.angle_source = MC_ANGLE_SOURCE_FLUX_OBSERVER;
+    fc.estimator = MC_ESTIMATOR_FLUX_II;
     fc.controller = MC_CONTROLLER_IDAPBC;
 #elif QEMU_P001_SCENARIO == 3
-    fc.angle_source = MC_ANGLE_SOURCE_FLUX_OBSERVER;
+    fc.estimator = MC_ESTIMATOR_FLUX_PLL;
     fc.controller = MC_CONTROLLER_FOC_PI;
 #endif
     if (sim_engine_init(&engine, &pc, &fc) != SIM_ENGINE_OK) {
@@ -111,8 +114,7 @@ int main(void)
     const sim_trace_sample_t *s = sim_engine_last(&engine);
     while (sim_engine_time_s(&engine) < T_END) {
         const double t = sim_engine_time_s(&engine);
-        cmd.omega_m_ref_rad_s =
-            (t_run >= 0.0 && t - t_run >= T_STEP) ? (float)W_REF : 0.0f;
+        cmd.omega_m_ref_rad_s = (t_run >= 0.0 && t - t_run >= T_STEP) ? (float)W_REF : 0.0f;
         const mc_state_t before = s->fw.state;
         if (sim_engine_step(&engine, &cmd) != SIM_ENGINE_OK) {
             return fail(sim_engine_message(&engine));
@@ -177,8 +179,7 @@ int main(void)
     check_line("run_fast_count", (double)st_fast.n, 0u);
     /* The firmware's own deadline measurement (hal_cycle_counter):
      * instructions from its first to its last counter read. */
-    check_line("fw_self_max_instr",
-               (double)fw_cost_max_s * (double)QEMU_M4_CORE_HZ, 0u);
+    check_line("fw_self_max_instr", (double)fw_cost_max_s * (double)QEMU_M4_CORE_HZ, 0u);
     if (s->fw.isr_overruns != 0u) {
         return fail("ISR overrun");
     }

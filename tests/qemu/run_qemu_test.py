@@ -16,7 +16,7 @@ import time
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--qemu", default="qemu-system-arm")
-    ap.add_argument("--icount-shift", type=int, default=6)
+    ap.add_argument("--icount-shift", type=int, required=True)
     ap.add_argument("--exit-status", type=int, default=0)
     ap.add_argument("--timeout", type=float, default=120.0)
     ap.add_argument("--expect", action="append", default=[])

@@ -2,10 +2,10 @@
 
 #include <math.h>
 
-#define PI_D 3.14159265358979323846
+#include "mc_test.h"
 
-void p001d_flux_obs_init(p001d_flux_obs_t *o, double R_ohm, double L_H,
-                         double Phi_Wb, double gamma, double Ts_s)
+void p001d_flux_obs_init(p001d_flux_obs_t *o, double R_ohm, double L_H, double Phi_Wb, double gamma,
+                         double Ts_s)
 {
     o->R_ohm = R_ohm;
     o->L_H = L_H;
@@ -15,8 +15,7 @@ void p001d_flux_obs_init(p001d_flux_obs_t *o, double R_ohm, double L_H,
     p001d_flux_obs_reset(o, 0.0, 0.0, 0.0);
 }
 
-void p001d_flux_obs_reset(p001d_flux_obs_t *o, double theta_e,
-                          double i_alpha, double i_beta)
+void p001d_flux_obs_reset(p001d_flux_obs_t *o, double theta_e, double i_alpha, double i_beta)
 {
     o->eta[0] = o->Phi_Wb * cos(theta_e);
     o->eta[1] = o->Phi_Wb * sin(theta_e);
@@ -27,8 +26,8 @@ void p001d_flux_obs_reset(p001d_flux_obs_t *o, double theta_e,
     o->theta_e = atan2(o->eta[1], o->eta[0]);
 }
 
-void p001d_flux_obs_step(p001d_flux_obs_t *o, double i_alpha, double i_beta,
-                         double v_alpha, double v_beta)
+void p001d_flux_obs_step(p001d_flux_obs_t *o, double i_alpha, double i_beta, double v_alpha,
+                         double v_beta)
 {
     const double i[2] = { i_alpha, i_beta };
     const double v[2] = { v_alpha, v_beta };
@@ -36,8 +35,8 @@ void p001d_flux_obs_step(p001d_flux_obs_t *o, double i_alpha, double i_beta,
     const double g = o->gamma * (o->Phi_Wb * o->Phi_Wb - e2);
     for (unsigned j = 0u; j < 2u; ++j) {
         /* (12) */
-        o->lambda[j] += o->Ts_s * (v[j] - o->R_ohm * 0.5 * (o->i_prev[j] + i[j]))
-                      + o->Ts_s * g * o->eta[j];
+        o->lambda[j] +=
+            o->Ts_s * (v[j] - o->R_ohm * 0.5 * (o->i_prev[j] + i[j])) + o->Ts_s * g * o->eta[j];
     }
     for (unsigned j = 0u; j < 2u; ++j) {
         o->eta[j] = o->lambda[j] - o->L_H * i[j]; /* (14) */
@@ -46,8 +45,7 @@ void p001d_flux_obs_step(p001d_flux_obs_t *o, double i_alpha, double i_beta,
     o->theta_e = atan2(o->eta[1], o->eta[0]); /* (13) */
 }
 
-double p001d_flux_obs_iq(const p001d_flux_obs_t *o, double i_alpha,
-                         double i_beta)
+double p001d_flux_obs_iq(const p001d_flux_obs_t *o, double i_alpha, double i_beta)
 {
     const double ra = o->eta[0] / o->Phi_Wb;
     const double rb = o->eta[1] / o->Phi_Wb;
@@ -63,17 +61,17 @@ void p001d_unwrap_reset(p001d_unwrap_t *u, double e0)
 double p001d_unwrap_step(p001d_unwrap_t *u, double e)
 {
     const double dif = e - u->e_prev;
-    if (dif < -PI_D) {
+    if (dif < -MC_TEST_PI) {
         u->n += 1; /* crossed +pi going forward */
-    } else if (dif > PI_D) {
+    } else if (dif > MC_TEST_PI) {
         u->n -= 1; /* crossed -pi going backward */
     }
     u->e_prev = e;
-    return e + 2.0 * PI_D * (double)u->n;
+    return e + MC_TEST_TWO_PI * (double)u->n;
 }
 
-void p001d_speed_obs_init(p001d_speed_obs_t *o, double a1, double a2,
-                          double np, double J, double kt, double Ts_s)
+void p001d_speed_obs_init(p001d_speed_obs_t *o, double a1, double a2, double np, double J,
+                          double kt, double Ts_s)
 {
     o->a1 = a1;
     o->a2 = a2;
@@ -84,8 +82,7 @@ void p001d_speed_obs_init(p001d_speed_obs_t *o, double a1, double a2,
     p001d_speed_obs_reset(o, 0.0, 0.0, 0.0);
 }
 
-void p001d_speed_obs_reset(p001d_speed_obs_t *o, double theta_e,
-                           double omega_m, double tau_L)
+void p001d_speed_obs_reset(p001d_speed_obs_t *o, double theta_e, double omega_m, double tau_L)
 {
     p001d_unwrap_reset(&o->unwrap, theta_e);
     o->theta_u = theta_e;

@@ -33,24 +33,22 @@
 
 typedef struct {
     double R_ohm, L_H, Phi_Wb, gamma, Ts_s;
-    double lambda[2];  /* lambda_hat_k (alpha, beta), Wb */
-    double eta[2];     /* eta_k, Wb */
-    double i_prev[2];  /* i_k, A */
-    double theta_e;    /* atan2(eta_beta, eta_alpha), (-pi, pi] */
+    double lambda[2]; /* lambda_hat_k (alpha, beta), Wb */
+    double eta[2];    /* eta_k, Wb */
+    double i_prev[2]; /* i_k, A */
+    double theta_e;   /* atan2(eta_beta, eta_alpha), (-pi, pi] */
 } p001d_flux_obs_t;
 
 /* Parameters; the state starts like p001d_flux_obs_reset(0, 0, 0). */
-void p001d_flux_obs_init(p001d_flux_obs_t *o, double R_ohm, double L_H,
-                         double Phi_Wb, double gamma, double Ts_s);
+void p001d_flux_obs_init(p001d_flux_obs_t *o, double R_ohm, double L_H, double Phi_Wb, double gamma,
+                         double Ts_s);
 /* Known angle and currents now: eta = Phi [cos; sin], lambda = L i + eta. */
-void p001d_flux_obs_reset(p001d_flux_obs_t *o, double theta_e,
-                          double i_alpha, double i_beta);
+void p001d_flux_obs_reset(p001d_flux_obs_t *o, double theta_e, double i_alpha, double i_beta);
 /* One sample: i at t_k, v_bar the mean voltage over [t_{k-1}, t_k]. */
-void p001d_flux_obs_step(p001d_flux_obs_t *o, double i_alpha, double i_beta,
-                         double v_alpha, double v_beta);
+void p001d_flux_obs_step(p001d_flux_obs_t *o, double i_alpha, double i_beta, double v_alpha,
+                         double v_beta);
 /* i^T Jcal rho_hat = -i_alpha rho_beta + i_beta rho_alpha (A). */
-double p001d_flux_obs_iq(const p001d_flux_obs_t *o, double i_alpha,
-                         double i_beta);
+double p001d_flux_obs_iq(const p001d_flux_obs_t *o, double i_alpha, double i_beta);
 
 /* Appendix A unwrap operator: y_k = e_k + 2 pi n_k. */
 typedef struct {
@@ -65,18 +63,17 @@ double p001d_unwrap_step(p001d_unwrap_t *u, double e);
 typedef struct {
     double a1, a2, np, J, kt, Ts_s;
     double xi[2];
-    double theta_u;       /* A(theta) at the last sample */
+    double theta_u; /* A(theta) at the last sample */
     p001d_unwrap_t unwrap;
-    double omega_m;       /* outputs of (15) at the last sample */
+    double omega_m; /* outputs of (15) at the last sample */
     double tau_L;
 } p001d_speed_obs_t;
 
-void p001d_speed_obs_init(p001d_speed_obs_t *o, double a1, double a2,
-                          double np, double J, double kt, double Ts_s);
+void p001d_speed_obs_init(p001d_speed_obs_t *o, double a1, double a2, double np, double J,
+                          double kt, double Ts_s);
 /* Start from the wrapped angle theta_e (A's counter at 0) and estimates
  * omega_m, tau_L: xi = [omega_m; tau_L] - k theta_u. */
-void p001d_speed_obs_reset(p001d_speed_obs_t *o, double theta_e,
-                           double omega_m, double tau_L);
+void p001d_speed_obs_reset(p001d_speed_obs_t *o, double theta_e, double omega_m, double tau_L);
 /* One sample: wrapped angle at t_k, q current over [t_{k-1}, t_k]. */
 void p001d_speed_obs_step(p001d_speed_obs_t *o, double theta_e, double i_q);
 

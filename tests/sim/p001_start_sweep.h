@@ -7,7 +7,7 @@
  * before tb = 1 s, nominal parameters.
  *
  * Acceptance for every angle: no fault; RUN before tb = 0; at the first RUN
- * sample the TRUE electrical angle within 0.02 rad of align_angle_e_rad
+ * sample the TRUE electrical angle within 0.02 rad of align.angle_e_rad
  * (where the observers start) and |omega_m| <= 0.01 rad/s (0.1 rpm); peak
  * phase current during ALIGN <= 3 A (the nominal acceptance's peak;
  * hypot(2 A, 2 A) = 2.83 A by design); then, like the nominal run: RMS
@@ -29,7 +29,6 @@ double p001_sweep_offset_e_rad(unsigned k);
 
 /* Run the cases k_begin <= k < k_end with this controller and assert the
  * acceptance of each. */
-void p001_sweep_assert_range(mc_controller_t controller, unsigned k_begin,
-                             unsigned k_end);
+void p001_sweep_assert_range(mc_controller_t controller, unsigned k_begin, unsigned k_end);
 
 #endif /* P001_START_SWEEP_H */

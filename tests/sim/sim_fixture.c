@@ -1,10 +1,7 @@
 #include "sim_fixture.h"
 
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
+
 #include <stdlib.h>
 
 void fixture_plant_config(plant_config_t *cfg)
@@ -13,15 +10,16 @@ void fixture_plant_config(plant_config_t *cfg)
     cfg->substeps_per_period = PLANT_SUBSTEPS_FAST;
 }
 
-void fixture_fw_config(mc_config_t *cfg)
+void fixture_fw_config(const plant_config_t *pc, mc_config_t *cfg)
 {
     mc_config_init_default(cfg);
+    sim_engine_firmware_from_plant(pc, cfg);
 }
 
 void fixture_configs(plant_config_t *pc, mc_config_t *fc)
 {
     fixture_plant_config(pc);
-    fixture_fw_config(fc);
+    fixture_fw_config(pc, fc);
 }
 
 sim_engine_t *fixture_engine(const plant_config_t *pc, const mc_config_t *fc)
@@ -36,10 +34,10 @@ sim_engine_t *fixture_engine(const plant_config_t *pc, const mc_config_t *fc)
     return e;
 }
 
-void fixture_start(sim_engine_t *e, const mc_command_t *cmd,
-                   const mc_config_t *fc)
+void fixture_start(sim_engine_t *e, const mc_command_t *cmd)
 {
-    const uint32_t limit = fc->calib_samples + 10u;
+    /* the calibration length the firmware derived from its timing */
+    const uint32_t limit = mc_app_timing(&e->app)->calib_samples + 10u;
     for (uint32_t k = 0u; k < limit; ++k) {
         assert_int_equal(sim_engine_step(e, cmd), SIM_ENGINE_OK);
         if (sim_engine_last(e)->fw.state == MC_STATE_RUN) {
@@ -53,7 +51,7 @@ sim_engine_t *fixture_running(const plant_config_t *pc, const mc_config_t *fc,
                               const mc_command_t *cmd)
 {
     sim_engine_t *e = fixture_engine(pc, fc);
-    fixture_start(e, cmd, fc);
+    fixture_start(e, cmd);
     return e;
 }
 

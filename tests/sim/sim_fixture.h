@@ -14,10 +14,12 @@
  * lines) with the fast solver (PLANT_SUBSTEPS_FAST). */
 void fixture_plant_config(plant_config_t *cfg);
 
-/* Firmware: mc_config_init_default(). */
-void fixture_fw_config(mc_config_t *cfg);
+/* Firmware: mc_config_init_default(), then what the bench takes from the
+ * plant pc (sim_engine_firmware_from_plant: nominal motor, PWM rate,
+ * encoder resolution). */
+void fixture_fw_config(const plant_config_t *pc, mc_config_t *cfg);
 
-/* Both of the above. */
+/* Both of the above (the firmware from this plant). */
 void fixture_configs(plant_config_t *pc, mc_config_t *fc);
 
 /* A heap-allocated engine initialised with these configs (asserts OK).
@@ -25,9 +27,8 @@ void fixture_configs(plant_config_t *pc, mc_config_t *fc);
 sim_engine_t *fixture_engine(const plant_config_t *pc, const mc_config_t *fc);
 
 /* Step with cmd (enable set) until the firmware reports RUN (asserts it
- * gets there within fc->calib_samples + 10 periods). */
-void fixture_start(sim_engine_t *e, const mc_command_t *cmd,
-                   const mc_config_t *fc);
+ * gets there within the firmware's calibration samples + 10 periods). */
+void fixture_start(sim_engine_t *e, const mc_command_t *cmd);
 
 /* fixture_engine() then fixture_start() with cmd: a drive in RUN. */
 sim_engine_t *fixture_running(const plant_config_t *pc, const mc_config_t *fc,

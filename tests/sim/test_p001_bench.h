@@ -22,60 +22,61 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc_test.h"
 #include "sim_fixture.h"
 
-#define BENCH_T0_S 2.0
-#define BENCH_LENGTH_S 10.0
-#define BENCH_RPM_PER_RAD_S (60.0 / (2.0 * 3.14159265358979323846))
+#define BENCH_T0_S          2.0
+#define BENCH_LENGTH_S      10.0
+#define BENCH_RPM_PER_RAD_S (60.0 / MC_TEST_TWO_PI)
 
 typedef struct {
-    double rms_speed_err_120_rpm;   /* tb in [5.5, 7) */
-    double rms_speed_err_50_rpm;    /* tb in [1.5, 2.5) */
-    double mean_speed_err_120_rpm;  /* mean of ref - w, tb in [5.5, 7) */
+    double rms_speed_err_120_rpm;      /* tb in [5.5, 7) */
+    double rms_speed_err_50_rpm;       /* tb in [1.5, 2.5) */
+    double mean_speed_err_120_rpm;     /* mean of ref - w, tb in [5.5, 7) */
     double mean_speed_est_err_120_rpm; /* mean of w_hat - w, same window */
-    double dip_load_1s_rpm;         /* max (ref - w) in tb [1, 1.5) */
-    double dip_load_5s_rpm;         /* max (ref - w) in tb [5, 5.5) */
-    double rms_angle_err_50_rad;    /* tb in [1.5, 3), electrical */
-    double rms_angle_err_120_rad;   /* tb in [5.5, 7) */
-    double rms_tau_err_120_Nm;      /* tau_hat - tau_L, tb in [5.5, 7) */
-    double max_speed_err_moving_rpm;/* |ref - w|, tb in [0.5, 8.5) */
-    double max_angle_err_moving_rad;/* tb in [0.5, 8.5) */
-    double peak_current_A;          /* max |i_abc| from enable to the end */
+    double dip_load_1s_rpm;            /* max (ref - w) in tb [1, 1.5) */
+    double dip_load_5s_rpm;            /* max (ref - w) in tb [5, 5.5) */
+    double rms_angle_err_50_rad;       /* tb in [1.5, 3), electrical */
+    double rms_angle_err_120_rad;      /* tb in [5.5, 7) */
+    double rms_tau_err_120_Nm;         /* tau_hat - tau_L, tb in [5.5, 7) */
+    double max_speed_err_moving_rpm;   /* |ref - w|, tb in [0.5, 8.5) */
+    double max_angle_err_moving_rad;   /* tb in [0.5, 8.5) */
+    double peak_current_A;             /* max |i_abc| from enable to the end */
     /* zero speed at the end, tb in [9.5, 10) */
     double max_abs_speed_end_rpm;
     double max_angle_err_end_rad;
     double max_tau_err_end_Nm;
     /* the start (ALIGN), true plant state at the first RUN sample */
-    double t_run_s;                 /* sim time of the first RUN sample */
-    double t_align_s;               /* time spent in ALIGN */
-    double align_angle_err_rad;     /* true theta_e - align_angle_e_rad */
-    double align_omega_m_rad_s;     /* true omega_m */
-    double peak_current_align_A;    /* max |i_abc| during ALIGN */
+    double t_run_s;              /* sim time of the first RUN sample */
+    double t_align_s;            /* time spent in ALIGN */
+    double align_angle_err_rad;  /* true theta_e - align.angle_e_rad */
+    double align_omega_m_rad_s;  /* true omega_m */
+    double peak_current_align_A; /* max |i_abc| during ALIGN */
     /* faults */
-    uint32_t faults;                /* latched at the end */
-    double t_first_fault_s;         /* tb of the first fault, or -1 */
+    uint32_t faults;        /* latched at the end */
+    double t_first_fault_s; /* tb of the first fault, or -1 */
 } bench_result_t;
 
 /* Plant of the fixture with the benchmark load and these mismatch
  * multipliers (plant = nominal * m; the controller stays nominal). */
-void bench_plant_config(plant_config_t *pc, double m_R, double m_L,
-                        double m_psi);
+void bench_plant_config(plant_config_t *pc, double m_R, double m_L, double m_psi);
 
-/* Firmware: sensorless (flux observer) with this controller
- * (MC_CONTROLLER_IDAPBC = paper, MC_CONTROLLER_FOC_PI = NAM baseline). */
-void bench_fw_config(mc_config_t *fc, mc_controller_t controller);
+/* Firmware for the plant pc (fixture_fw_config), sensorless with this
+ * controller: MC_CONTROLLER_IDAPBC = the paper (estimator flux_ii: flux
+ * observer + I&I), MC_CONTROLLER_FOC_PI = the NAM baseline (estimator
+ * flux_pll: flux observer + PLL). */
+void bench_fw_config(const plant_config_t *pc, mc_config_t *fc, mc_controller_t controller);
 
 /* Speed reference (rpm) at benchmark time tb (s). */
 double bench_ref_rpm(double tb_s);
 
 /* Run the whole benchmark (asserts the drive reaches RUN before
  * BENCH_T0_S), print the metrics with `label`, return them. */
-bench_result_t bench_run(const plant_config_t *pc, const mc_config_t *fc,
-                         const char *label);
+bench_result_t bench_run(const plant_config_t *pc, const mc_config_t *fc, const char *label);
 
 /* The same up to benchmark time tb_end_s (<= BENCH_LENGTH_S); metrics of
  * windows not reached are NaN (RMS) or 0 (maxima). */
-bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc,
-                            const char *label, double tb_end_s);
+bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc, const char *label,
+                            double tb_end_s);
 
 #endif /* TEST_P001_BENCH_H */

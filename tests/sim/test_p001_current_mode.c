@@ -23,11 +23,7 @@
  * it: measured 0.086 A without the restart, 0.029 A with a zero restart,
  * 2.4e-7 A with the bumpless one.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -39,9 +35,8 @@ static void run_speed_until(sim_engine_t *e, mc_command_t *cmd, double tb_end)
 {
     cmd->mode = MC_MODE_SPEED;
     while (sim_engine_time_s(e) - BENCH_T0_S < tb_end) {
-        cmd->omega_m_ref_rad_s = (float)(
-            bench_ref_rpm(sim_engine_time_s(e) - BENCH_T0_S) /
-            BENCH_RPM_PER_RAD_S);
+        cmd->omega_m_ref_rad_s =
+            (float)(bench_ref_rpm(sim_engine_time_s(e) - BENCH_T0_S) / BENCH_RPM_PER_RAD_S);
         assert_int_equal(sim_engine_step(e, cmd), SIM_ENGINE_OK);
     }
 }
@@ -52,7 +47,7 @@ static void test_speed_to_current_bumpless(void **state)
     plant_config_t pc;
     mc_config_t fc;
     bench_plant_config(&pc, 1.0, 1.0, 1.0);
-    bench_fw_config(&fc, MC_CONTROLLER_IDAPBC);
+    bench_fw_config(&pc, &fc, MC_CONTROLLER_IDAPBC);
     sim_engine_t *e = fixture_engine(&pc, &fc);
     mc_command_t cmd = { .enable = true, .mode = MC_MODE_SPEED };
     run_speed_until(e, &cmd, 0.9);
@@ -82,9 +77,8 @@ static void test_speed_to_current_bumpless(void **state)
         max_dev = fmax(max_dev, fabs((double)s->fw.i_q_A - i_q_ref));
     }
     free(e);
-    const double w_c = (double)fc.current_bandwidth_rad_s;
-    const double bound = (double)fc.R_ohm * fabs(i_q_ref) /
-                         ((double)fc.Lq_H * w_c);
+    const double w_c = (double)fc.current.bandwidth_rad_s;
+    const double bound = (double)fc.motor.R_ohm * fabs(i_q_ref) / ((double)fc.motor.Lq_H * w_c);
     printf("speed -> current mode at i_q_ref %.4g A: max |i_q - i_q_ref| "
            "over 40 periods %.4g A (bound R |i_q| / (L w_c) = %.4g A)\n",
            i_q_ref, max_dev, bound);

@@ -12,24 +12,28 @@
  * OPEN-LOOP REPLAY of the closed-loop trajectory: the firmware (float32)
  * drives the plant; the double observers only listen. At every PWM period
  * after the alignment they get the same inputs as the firmware's
- * observers (firmware/app/sensorless.c, fast_isr.c):
+ * observers (mc/est_flux_front.h, mc/est_flux_ii.h, firmware/app/fast_isr.c):
  *   - currents: the ISR's offset-corrected i_abc (telemetry), Clarke
  *     (amplitude-invariant, three inputs) done here in double;
  *   - voltage: the mean applied alpha-beta voltage over [t_{k-1}, t_k] as
  *     the firmware forms it (mc_applied_voltage_last_f32, read BEFORE this
  *     ISR pushes its command): v_bar_k = w v_{k-2} + (1 - w) v_{k-1},
- *     w = delay_periods - 1/2, v_j the telemetry v_alpha/beta_V of ISR j
+ *     w = d - 1/2 with d the delay of the firmware's timing record (the
+ *     HAL's, 1.5 on this bench), v_j the telemetry v_alpha/beta_V of ISR j
  *     (the alignment ISRs included: they precede the first RUN sample);
  *   - I&I input: the trapezoid 0.5 (i_q,k + i_q,k-1) of i^T Jcal rho_hat,
  *     each computed with the (double) observer's own rho_hat at that
  *     sample, as the firmware does with its float one;
  *   - start: in the last ALIGN ISR (the first whose telemetry says RUN) the
- *     firmware resets the flux observer at align_angle_e_rad with that
+ *     firmware resets the flux observer at align.angle_e_rad with that
  *     ISR's currents, the speed observer at that angle with zero speed and
  *     load, and i_q,prev from the reset rho_hat; the double observers are
  *     reset in the same ISR the same way and both step from the next one.
  * Parameters: the firmware configuration's (float) values, promoted to
  * double; Ts = 1 / f_pwm in double; kt = 1.5 n_p Phi (the firmware's).
+ * The delay d and the firmware's float period come from the timing record
+ * of the engine the replay listens to (mc_app_timing(): what the HAL
+ * reported), read at its first step.
  *
  * The per-period hook: bench_run() (the shared runner, reused unchanged)
  * calls sim_engine_step(); this executable is linked with
@@ -47,11 +51,7 @@
  * aligned: a one-period voltage misalignment shows up as a mrad angle
  * offset).
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -60,8 +60,6 @@
 
 #include "p001_double_reference.h"
 #include "test_p001_bench.h"
-
-#define PI_D 3.14159265358979323846
 
 /* The requirement. */
 #define SPEED_BOUND_RPM 0.01
@@ -89,7 +87,7 @@
  * sample) and is loose; it only catches gross float-specific errors. The
  * measured value is printed next to it.
  */
-#define LAMBDA_ROUND_WB (7.4506e-9 + 2.0e-9)
+#define LAMBDA_ROUND_WB       (7.4506e-9 + 2.0e-9)
 #define ATAN2_F32_MAX_ERR_RAD 1.0e-6
 
 /*
@@ -101,9 +99,12 @@
 
 typedef struct {
     const mc_config_t *fc;
-    double w_older;            /* delay_periods - 1/2 */
-    double v_older[2];         /* telemetry voltage of ISR k-2 */
-    double v_newer[2];         /* ... of ISR k-1 */
+    bool have_timing;     /* w_older, Ts_f_s read from the engine */
+    double delay_periods; /* the firmware's d (its timing record) */
+    double w_older;       /* d - 1/2 */
+    double Ts_f_s;        /* the firmware's (float) period */
+    double v_older[2];    /* telemetry voltage of ISR k-2 */
+    double v_newer[2];    /* ... of ISR k-1 */
     mc_state_t prev_state;
     bool started;
     bool left_run;
@@ -116,9 +117,9 @@ typedef struct {
     double max_dw_rpm, tb_max_dw;
     double max_dth_rad, tb_max_dth;
     double max_dtau_Nm, tb_max_dtau;
-    double max_dth_moving_rad;  /* tb < 9 s (before the standstill) */
+    double max_dth_moving_rad; /* tb < 9 s (before the standstill) */
     double sum_sq_dw_rpm;
-    double flux_path_Wb;       /* sum Ts |v_bar - R i|, for the Ts term */
+    double flux_path_Wb; /* sum Ts |v_bar - R i|, for the Ts term */
     /* double observer vs the true plant, tb in [0.5, 8.5) */
     double max_ref_angle_err_rad;
     double max_ref_speed_err_rpm;
@@ -139,25 +140,33 @@ static void clarke_d(const float i_abc[3], double *al, double *be)
 static void replay_init(replay_t *r, const mc_config_t *fc)
 {
     *r = (replay_t){ .fc = fc, .prev_state = MC_STATE_IDLE };
-    r->w_older = (double)fc->delay_periods - 0.5;
-    const double Ts = 1.0 / (double)fc->f_pwm_hz;
-    const double np = (double)fc->pole_pairs;
-    p001d_flux_obs_init(&r->flux, (double)fc->R_ohm, (double)fc->Lq_H,
-                        (double)fc->psi_Wb, (double)fc->flux_obs_gamma, Ts);
-    p001d_speed_obs_init(&r->speed, (double)fc->speed_obs_a1,
-                         (double)fc->speed_obs_a2, np, (double)fc->J_kgm2,
-                         1.5 * np * (double)fc->psi_Wb, Ts);
+    const mc_motor_params_t *m = &fc->motor;
+    const double Ts = 1.0 / (double)fc->timing.f_pwm_Hz;
+    const double np = (double)m->pole_pairs;
+    p001d_flux_obs_init(&r->flux, (double)m->R_ohm, (double)m->Lq_H, (double)m->psi_Wb,
+                        (double)fc->flux_obs.gamma, Ts);
+    p001d_speed_obs_init(&r->speed, (double)fc->flux_ii.a1, (double)fc->flux_ii.a2, np,
+                         (double)m->J_kgm2, 1.5 * np * (double)m->psi_Wb, Ts);
+}
+
+/* The firmware's timing as the HAL gave it (before the first sample). */
+static void replay_timing(replay_t *r, const sim_engine_t *e)
+{
+    r->delay_periods = (double)mc_app_timing(&e->app)->delay_periods;
+    r->w_older = r->delay_periods - 0.5;
+    r->Ts_f_s = (double)mc_app_timing(&e->app)->Ts_s;
+    r->have_timing = true;
 }
 
 /* Worst-case float32 angle difference for this replay (see above). */
 static double angle_bound_rad(const replay_t *r)
 {
     const double Phi = r->flux.Phi_Wb;
-    const double Ts_f = (double)(1.0f / r->fc->f_pwm_hz);
+    const double Ts_f = r->Ts_f_s;
     const double per_sample = sqrt(2.0) * LAMBDA_ROUND_WB / (0.99 * Phi);
     return (double)r->n * per_sample +
-           fabs(Ts_f / r->flux.Ts_s - 1.0) * r->flux_path_Wb / (0.99 * Phi) +
-           per_sample + ATAN2_F32_MAX_ERR_RAD;
+           fabs(Ts_f / r->flux.Ts_s - 1.0) * r->flux_path_Wb / (0.99 * Phi) + per_sample +
+           ATAN2_F32_MAX_ERR_RAD;
 }
 
 static void replay_sample(replay_t *r, const sim_trace_sample_t *s)
@@ -171,23 +180,19 @@ static void replay_sample(replay_t *r, const sim_trace_sample_t *s)
         r->left_run = true;
     }
     if (r->started && !r->left_run) {
-        const double v_al = r->w_older * r->v_older[0] +
-                            (1.0 - r->w_older) * r->v_newer[0];
-        const double v_be = r->w_older * r->v_older[1] +
-                            (1.0 - r->w_older) * r->v_newer[1];
+        const double v_al = r->w_older * r->v_older[0] + (1.0 - r->w_older) * r->v_newer[0];
+        const double v_be = r->w_older * r->v_older[1] + (1.0 - r->w_older) * r->v_newer[1];
         const double R = r->flux.R_ohm;
-        r->flux_path_Wb += r->flux.Ts_s * hypot(v_al - R * i_al,
-                                                v_be - R * i_be);
+        r->flux_path_Wb += r->flux.Ts_s * hypot(v_al - R * i_al, v_be - R * i_be);
         p001d_flux_obs_step(&r->flux, i_al, i_be, v_al, v_be);
         const double i_q = p001d_flux_obs_iq(&r->flux, i_al, i_be);
         const double i_q_mean = 0.5 * (i_q + r->i_q_prev_A);
         r->i_q_prev_A = i_q;
         p001d_speed_obs_step(&r->speed, r->flux.theta_e, i_q_mean);
 
-        const double dw = fabs((double)fw->omega_m_rad_s - r->speed.omega_m) *
-                          BENCH_RPM_PER_RAD_S;
-        const double dth = fabs(remainder((double)fw->theta_e_rad -
-                                              r->flux.theta_e, 2.0 * PI_D));
+        const double dw = fabs((double)fw->omega_m_rad_s - r->speed.omega_m) * BENCH_RPM_PER_RAD_S;
+        const double dth =
+            fabs(remainder((double)fw->theta_e_rad - r->flux.theta_e, MC_TEST_TWO_PI));
         const double dtau = fabs((double)fw->tau_L_hat_Nm - r->speed.tau_L);
         r->n++;
         r->sum_sq_dw_rpm += dw * dw;
@@ -207,21 +212,17 @@ static void replay_sample(replay_t *r, const sim_trace_sample_t *s)
             r->tb_max_dtau = tb;
         }
         if (tb >= 0.5 && tb < 8.5) {
-            r->max_ref_angle_err_rad = fmax(
-                r->max_ref_angle_err_rad,
-                fabs(remainder(r->flux.theta_e - s->plant.theta_e_rad,
-                               2.0 * PI_D)));
-            r->max_ref_speed_err_rpm = fmax(
-                r->max_ref_speed_err_rpm,
-                fabs(r->speed.omega_m - s->plant.omega_m_rad_s) *
-                    BENCH_RPM_PER_RAD_S);
+            r->max_ref_angle_err_rad =
+                fmax(r->max_ref_angle_err_rad,
+                     fabs(remainder(r->flux.theta_e - s->plant.theta_e_rad, MC_TEST_TWO_PI)));
+            r->max_ref_speed_err_rpm =
+                fmax(r->max_ref_speed_err_rpm,
+                     fabs(r->speed.omega_m - s->plant.omega_m_rad_s) * BENCH_RPM_PER_RAD_S);
         }
     }
-    if (!r->started && r->prev_state == MC_STATE_ALIGN &&
-        fw->state == MC_STATE_RUN) {
+    if (!r->started && r->prev_state == MC_STATE_ALIGN && fw->state == MC_STATE_RUN) {
         /* the firmware's mc_app_sensorless_start in this ISR */
-        const double th0 = remainder((double)r->fc->align_angle_e_rad,
-                                     2.0 * PI_D);
+        const double th0 = remainder((double)r->fc->align.angle_e_rad, MC_TEST_TWO_PI);
         p001d_flux_obs_reset(&r->flux, th0, i_al, i_be);
         p001d_speed_obs_reset(&r->speed, r->flux.theta_e, 0.0, 0.0);
         r->i_q_prev_A = p001d_flux_obs_iq(&r->flux, i_al, i_be);
@@ -241,6 +242,9 @@ int __wrap_sim_engine_step(sim_engine_t *e, const mc_command_t *cmd);
 
 int __wrap_sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
 {
+    if (g_replay_on && !g_replay.have_timing) {
+        replay_timing(&g_replay, e);
+    }
     const int rc = __real_sim_engine_step(e, cmd);
     if (rc == SIM_ENGINE_OK && g_replay_on) {
         replay_sample(&g_replay, sim_engine_last(e));
@@ -259,7 +263,7 @@ static void test_unwrap_operator(void **state)
         p001d_unwrap_reset(&u, truth);
         for (int k = 0; k < 100; ++k) {
             truth += step * (double)dir;
-            const double y = p001d_unwrap_step(&u, remainder(truth, 2.0 * PI_D));
+            const double y = p001d_unwrap_step(&u, remainder(truth, MC_TEST_TWO_PI));
             assert_true(fabs(y - truth) < 1e-12);
         }
     }
@@ -271,7 +275,7 @@ static void test_float_equals_double_on_benchmark(void **state)
     plant_config_t pc;
     mc_config_t fc;
     bench_plant_config(&pc, 1.0, 1.0, 1.0);
-    bench_fw_config(&fc, MC_CONTROLLER_IDAPBC);
+    bench_fw_config(&pc, &fc, MC_CONTROLLER_IDAPBC);
     replay_init(&g_replay, &fc);
     g_replay_on = true;
     const clock_t c0 = clock();
@@ -281,31 +285,36 @@ static void test_float_equals_double_on_benchmark(void **state)
     const replay_t *r = &g_replay;
 
     printf("[float vs double] replay from t = %.4f s (tb %.4f s), %llu "
-           "samples, %.2f s CPU\n", r->t_start_s, r->t_start_s - BENCH_T0_S,
-           (unsigned long long)r->n, cpu_s);
+           "samples, %.2f s CPU; firmware delay %.2f periods (from the HAL)\n",
+           r->t_start_s, r->t_start_s - BENCH_T0_S, (unsigned long long)r->n, cpu_s,
+           r->delay_periods);
     printf("[float vs double] max |w_f - w_d| = %.3e rpm (tb %.4f s), RMS "
-           "%.3e rpm (bound %.3g rpm)\n", r->max_dw_rpm, r->tb_max_dw,
-           (r->n > 0u) ? sqrt(r->sum_sq_dw_rpm / (double)r->n) : NAN,
+           "%.3e rpm (bound %.3g rpm)\n",
+           r->max_dw_rpm, r->tb_max_dw, (r->n > 0u) ? sqrt(r->sum_sq_dw_rpm / (double)r->n) : NAN,
            SPEED_BOUND_RPM);
     const double th_bound = angle_bound_rad(r);
     printf("[float vs double] max |theta_f - theta_d| = %.3e rad (tb %.4f "
-           "s) (float32 worst case %.3g rad)\n", r->max_dth_rad,
-           r->tb_max_dth, th_bound);
+           "s) (float32 worst case %.3g rad)\n",
+           r->max_dth_rad, r->tb_max_dth, th_bound);
     printf("[float vs double] max |theta_f - theta_d| before the standstill "
-           "(tb < 9 s) = %.3e rad\n", r->max_dth_moving_rad);
+           "(tb < 9 s) = %.3e rad\n",
+           r->max_dth_moving_rad);
     printf("[float vs double] max |tau_f - tau_d| = %.3e N m (tb %.4f s) "
-           "(reported)\n", r->max_dtau_Nm, r->tb_max_dtau);
+           "(reported)\n",
+           r->max_dtau_Nm, r->tb_max_dtau);
     printf("[float vs double] double reference vs plant, tb 0.5-8.5 s: max "
            "angle err %.3e rad, max speed err %.3e rpm\n",
            r->max_ref_angle_err_rad, r->max_ref_speed_err_rpm);
 
     assert_int_equal(res.faults, 0u);
+    /* the bench's next-period duty update: the HAL reports 1.5 periods */
+    assert_true(r->have_timing);
+    assert_true(r->delay_periods == (double)SIM_ENGINE_DELAY_NEXT_PERIOD);
     assert_true(r->started);
     assert_false(r->left_run);
     /* the replay covers the whole benchmark: RUN from before tb = 0 */
     assert_true(r->t_start_s <= BENCH_T0_S);
-    assert_true((double)r->n * (1.0 / (double)fc.f_pwm_hz) >=
-                BENCH_LENGTH_S);
+    assert_true((double)r->n * (1.0 / (double)fc.timing.f_pwm_Hz) >= BENCH_LENGTH_S);
     /* The double observer tracks the true plant: the replay is aligned.
      * Nominal parameters, ideal sensors and the exact mean voltage leave
      * only discretisation error (trapezoidal R i: ~R Ts^3 |i''| / 12 =

@@ -4,11 +4,7 @@
  * speed/load estimator + cascaded PI speed and current loops), both on the
  * Section 5.1 benchmark with nominal parameters.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include "test_p001_bench.h"
 
@@ -18,9 +14,9 @@ static void test_paper_beats_nam_on_load_steps(void **state)
     plant_config_t pc;
     mc_config_t fc;
     bench_plant_config(&pc, 1.0, 1.0, 1.0);
-    bench_fw_config(&fc, MC_CONTROLLER_FOC_PI);
+    bench_fw_config(&pc, &fc, MC_CONTROLLER_FOC_PI);
     const bench_result_t nam = bench_run(&pc, &fc, "NAM nominal");
-    bench_fw_config(&fc, MC_CONTROLLER_IDAPBC);
+    bench_fw_config(&pc, &fc, MC_CONTROLLER_IDAPBC);
     const bench_result_t tac = bench_run(&pc, &fc, "paper nominal");
     assert_int_equal(nam.faults, 0u);
     assert_int_equal(tac.faults, 0u);

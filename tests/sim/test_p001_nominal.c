@@ -10,11 +10,7 @@
  * error at 120 rpm <= 1e-3 N m, peak phase current <= 3 A (the 2 A
  * alignment included; 1 N m needs 1.31 A), no fault.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include <stdbool.h>
 #include <stdio.h>
@@ -38,8 +34,8 @@ static bench_result_t run_nominal(bool delay_comp, const char *label)
     plant_config_t pc;
     mc_config_t fc;
     bench_plant_config(&pc, 1.0, 1.0, 1.0);
-    bench_fw_config(&fc, MC_CONTROLLER_IDAPBC);
-    fc.delay_comp_enabled = delay_comp;
+    bench_fw_config(&pc, &fc, MC_CONTROLLER_IDAPBC);
+    fc.timing.delay_compensation = delay_comp;
     return bench_run(&pc, &fc, label);
 }
 

@@ -13,11 +13,7 @@
  * fault from tb = 9 s on is accepted, nothing there is asserted (bench_run
  * prints the metrics).
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include "test_p001_bench.h"
 
@@ -28,13 +24,12 @@ static void assert_bounded_while_moving(const bench_result_t *r)
     assert_true(r->peak_current_A <= 10.0); /* i_max of the defaults */
 }
 
-static bench_result_t run_case(double m_R, double m_L, double m_psi,
-                               const char *label)
+static bench_result_t run_case(double m_R, double m_L, double m_psi, const char *label)
 {
     plant_config_t pc;
     mc_config_t fc;
     bench_plant_config(&pc, m_R, m_L, m_psi);
-    bench_fw_config(&fc, MC_CONTROLLER_IDAPBC);
+    bench_fw_config(&pc, &fc, MC_CONTROLLER_IDAPBC);
     return bench_run(&pc, &fc, label);
 }
 

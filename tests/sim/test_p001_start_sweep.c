@@ -6,11 +6,7 @@
  *                    (flux observer + PLL + cascaded PI, paper 001 Fig. 11)
  *   P001_SWEEP_HALF  0: angles k = 0..6, 1: k = 7..P001_SWEEP_N - 1
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include "p001_start_sweep.h"
 
@@ -23,8 +19,7 @@
 static void test_starts_from_any_angle(void **state)
 {
     (void)state;
-    const mc_controller_t c =
-        P001_SWEEP_NAM ? MC_CONTROLLER_FOC_PI : MC_CONTROLLER_IDAPBC;
+    const mc_controller_t c = P001_SWEEP_NAM ? MC_CONTROLLER_FOC_PI : MC_CONTROLLER_IDAPBC;
     if (P001_SWEEP_HALF == 0) {
         p001_sweep_assert_range(c, 0u, SWEEP_SPLIT);
     } else {

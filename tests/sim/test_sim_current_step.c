@@ -16,11 +16,7 @@
  * The plant is the true paper-001 motor (RK4, averaged inverter), sampled
  * at every PWM centre; crossings are interpolated linearly between samples.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -28,16 +24,14 @@
 
 #include "sim_fixture.h"
 
-#define TWO_PI 6.283185307179586
 #define N_TRACE 800u /* 40 ms at 20 kHz */
 
 /* First time the trace crosses `level` (between samples: linear). */
-static double crossing_time(const double *t, const double *y, size_t n,
-                            double level, bool rising)
+static double crossing_time(const double *t, const double *y, size_t n, double level, bool rising)
 {
     for (size_t k = 1; k < n; ++k) {
-        const bool crossed = rising ? (y[k - 1] < level && y[k] >= level)
-                                    : (y[k - 1] > level && y[k] <= level);
+        const bool crossed =
+            rising ? (y[k - 1] < level && y[k] >= level) : (y[k - 1] > level && y[k] <= level);
         if (crossed) {
             const double a = (level - y[k - 1]) / (y[k] - y[k - 1]);
             return t[k - 1] + a * (t[k] - t[k - 1]);
@@ -47,8 +41,7 @@ static double crossing_time(const double *t, const double *y, size_t n,
 }
 
 /* 10-90 % rise time of a step from y0 to y1. */
-static double rise_time(const double *t, const double *y, size_t n, double y0,
-                        double y1)
+static double rise_time(const double *t, const double *y, size_t n, double y0, double y1)
 {
     const bool rising = y1 > y0;
     const double t10 = crossing_time(t, y, n, y0 + 0.1 * (y1 - y0), rising);
@@ -82,8 +75,8 @@ typedef enum { AXIS_D, AXIS_Q } axis_t;
 
 typedef struct {
     double rise_s;
-    double final_A;        /* mean over the last 5 ms of the trace */
-    double other_peak_A;   /* max |current of the other axis| */
+    double final_A;      /* mean over the last 5 ms of the trace */
+    double other_peak_A; /* max |current of the other axis| */
 } step_result_t;
 
 /* From a running drive in current mode at zero current, step one axis to
@@ -123,9 +116,8 @@ static step_result_t current_step(sim_engine_t *e, axis_t axis, double i_step_A)
 
 static void check_rise(const char *what, double measured_s, double expected_s)
 {
-    printf("%-34s rise %.1f us, expected %.1f us (%+.1f %%)\n", what,
-           measured_s * 1e6, expected_s * 1e6,
-           100.0 * (measured_s / expected_s - 1.0));
+    printf("%-34s rise %.1f us, expected %.1f us (%+.1f %%)\n", what, measured_s * 1e6,
+           expected_s * 1e6, 100.0 * (measured_s / expected_s - 1.0));
     assert_true(isfinite(measured_s));
     assert_true(fabs(measured_s - expected_s) <= 0.10 * expected_s);
 }
@@ -134,13 +126,12 @@ static void check_rise(const char *what, double measured_s, double expected_s)
  * (rotor locked, or free at omega_m0_rad_s) and firmware, current
  * bandwidth w_c = 2 pi bandwidth_Hz. */
 static sim_engine_t *current_mode_drive(bool locked_rotor, double omega_m0_rad_s,
-                                        double bandwidth_Hz, plant_config_t *pc,
-                                        mc_config_t *fc)
+                                        double bandwidth_Hz, plant_config_t *pc, mc_config_t *fc)
 {
     fixture_configs(pc, fc);
     pc->locked_rotor = locked_rotor;
     pc->omega_m0_rad_s = omega_m0_rad_s;
-    fc->current_bandwidth_rad_s = (float)(TWO_PI * bandwidth_Hz);
+    fc->current.bandwidth_rad_s = (float)(MC_TEST_TWO_PI * bandwidth_Hz);
     const mc_command_t cmd = { .enable = true, .mode = MC_MODE_CURRENT };
     return fixture_running(pc, fc, &cmd);
 }
@@ -152,7 +143,7 @@ static void test_locked_rotor_steps_match_designed_bandwidth(void **state)
     plant_config_t pc;
     mc_config_t fc;
     sim_engine_t *e = current_mode_drive(true, 0.0, 300.0, &pc, &fc);
-    const double w_c = (double)fc.current_bandwidth_rad_s;
+    const double w_c = (double)fc.current.bandwidth_rad_s;
     const double tau = 1.5 / pc.inverter.f_pwm_Hz;
     const double expected = reference_rise_time(w_c, tau);
 
@@ -177,7 +168,7 @@ static void test_low_bandwidth_step_matches_first_order(void **state)
     plant_config_t pc;
     mc_config_t fc;
     sim_engine_t *e = current_mode_drive(true, 0.0, 80.0, &pc, &fc);
-    const double w_c = (double)fc.current_bandwidth_rad_s;
+    const double w_c = (double)fc.current.bandwidth_rad_s;
     const step_result_t q = current_step(e, AXIS_Q, 2.0);
     check_rise("locked rotor, w_c = 2 pi 80, q step", q.rise_s, log(9.0) / w_c);
     free(e);
@@ -192,7 +183,7 @@ static void test_d_step_at_speed_is_decoupled(void **state)
     plant_config_t pc;
     mc_config_t fc;
     sim_engine_t *e = current_mode_drive(false, 20.0, 300.0, &pc, &fc);
-    const double w_c = (double)fc.current_bandwidth_rad_s;
+    const double w_c = (double)fc.current.bandwidth_rad_s;
     const double expected = reference_rise_time(w_c, 1.5 / pc.inverter.f_pwm_Hz);
 
     const step_result_t d = current_step(e, AXIS_D, -2.0);

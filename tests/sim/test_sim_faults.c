@@ -6,18 +6,14 @@
  * a clear request while its cause is present, clears on a request once the
  * cause is gone, and restarts only after enable was re-armed.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include <math.h>
 #include <stdlib.h>
 
 #include "sim_fixture.h"
 
-#define T_FAULT_S 0.06
+#define T_FAULT_S   0.06
 #define FAULT_LEN_S 0.02
 
 static void step_ok(sim_engine_t *e, const mc_command_t *cmd)
@@ -25,22 +21,22 @@ static void step_ok(sim_engine_t *e, const mc_command_t *cmd)
     assert_int_equal(sim_engine_step(e, cmd), SIM_ENGINE_OK);
 }
 
-static void run_fault_case(sim_inject_kind_t kind, double value,
-                           uint32_t expected_fault)
+static void run_fault_case(sim_inject_kind_t kind, double value, uint32_t expected_fault)
 {
     plant_config_t pc;
     mc_config_t fc;
     fixture_configs(&pc, &fc);
     pc.locked_rotor = true;
     sim_engine_t *e = fixture_engine(&pc, &fc);
-    const sim_injection_t inj = { .kind = kind, .t_start_s = T_FAULT_S,
+    const sim_injection_t inj = { .kind = kind,
+                                  .t_start_s = T_FAULT_S,
                                   .t_end_s = T_FAULT_S + FAULT_LEN_S,
-                                  .phase = 1u, .value = value };
+                                  .phase = 1u,
+                                  .value = value };
     assert_int_equal(sim_engine_add_injection(e, &inj), SIM_ENGINE_OK);
 
-    mc_command_t cmd = { .enable = true, .mode = MC_MODE_CURRENT,
-                         .i_q_ref_A = 3.0f };
-    fixture_start(e, &cmd, &fc);
+    mc_command_t cmd = { .enable = true, .mode = MC_MODE_CURRENT, .i_q_ref_A = 3.0f };
+    fixture_start(e, &cmd);
     /* Up to the sample before t_f: running, inverter switching, 3 A. */
     fixture_run_until(e, &cmd, T_FAULT_S);
     const sim_trace_sample_t *s = sim_engine_last(e);
@@ -96,7 +92,7 @@ static void run_fault_case(sim_inject_kind_t kind, double value,
     cmd.clear_fault = false;
     step_ok(e, &cmd);
     cmd.enable = true;
-    fixture_start(e, &cmd, &fc);
+    fixture_start(e, &cmd);
     fixture_run_until(e, &cmd, sim_engine_time_s(e) + 0.01);
     s = sim_engine_last(e);
     assert_int_equal(s->fw.state, MC_STATE_RUN);
@@ -119,23 +115,23 @@ static void test_fault_case(void **state)
 }
 
 /* A cmocka test of test_fault_case named after the case. */
-#define FAULT_CASE_TEST(c) \
-    { "test_" #c, test_fault_case, NULL, NULL, (void *)&(c) }
+#define FAULT_CASE_TEST(c)                                                                         \
+    {                                                                                              \
+        "test_" #c, test_fault_case, NULL, NULL, (void *)&(c)                                      \
+    }
 
 /* A +30 A spike on the phase-b current sensor (trip level 20 A). */
-static const fault_case_t overcurrent_spike = {
-    SIM_INJECT_CURRENT_OFFSET, 30.0, MC_FAULT_OVERCURRENT };
+static const fault_case_t overcurrent_spike = { SIM_INJECT_CURRENT_OFFSET, 30.0,
+                                                MC_FAULT_OVERCURRENT };
 /* NaN in the phase-b current measurement. */
-static const fault_case_t nan_current = {
-    SIM_INJECT_CURRENT_NAN, 0.0, MC_FAULT_NONFINITE };
+static const fault_case_t nan_current = { SIM_INJECT_CURRENT_NAN, 0.0, MC_FAULT_NONFINITE };
 /* External fault / STO input. */
-static const fault_case_t external_input = {
-    SIM_INJECT_FAULT_INPUT, 0.0, MC_FAULT_EXTERNAL };
+static const fault_case_t external_input = { SIM_INJECT_FAULT_INPUT, 0.0, MC_FAULT_EXTERNAL };
 /* Bus voltage measured at 70 V (trip 60 V) and at 10 V (trip 20 V). */
-static const fault_case_t bus_overvoltage = {
-    SIM_INJECT_VDC_MEASURED, 70.0, MC_FAULT_DC_OVERVOLTAGE };
-static const fault_case_t bus_undervoltage = {
-    SIM_INJECT_VDC_MEASURED, 10.0, MC_FAULT_DC_UNDERVOLTAGE };
+static const fault_case_t bus_overvoltage = { SIM_INJECT_VDC_MEASURED, 70.0,
+                                              MC_FAULT_DC_OVERVOLTAGE };
+static const fault_case_t bus_undervoltage = { SIM_INJECT_VDC_MEASURED, 10.0,
+                                               MC_FAULT_DC_UNDERVOLTAGE };
 
 /* A NaN reference in RUN is a non-finite fault too. */
 static void test_nan_reference(void **state)
@@ -150,8 +146,7 @@ static void test_nan_reference(void **state)
     fixture_run_until(e, &cmd, 0.04);
     cmd.omega_m_ref_rad_s = NAN;
     /* The speed loop runs every 10th ISR: the fault comes within 10. */
-    for (int k = 0; k < 10 && sim_engine_last(e)->fw.state == MC_STATE_RUN;
-         ++k) {
+    for (int k = 0; k < 10 && sim_engine_last(e)->fw.state == MC_STATE_RUN; ++k) {
         step_ok(e, &cmd);
     }
     const sim_trace_sample_t *s = sim_engine_last(e);
@@ -171,26 +166,24 @@ static void test_engine_rejects_bad_injections(void **state)
     const sim_injection_t bad[] = {
         { .kind = SIM_INJECT_CURRENT_OFFSET, .t_start_s = NAN, .t_end_s = 1.0 },
         { .kind = SIM_INJECT_CURRENT_OFFSET, .t_start_s = 1.0, .t_end_s = 0.5 },
-        { .kind = SIM_INJECT_CURRENT_OFFSET, .t_start_s = 0.0, .t_end_s = 1.0,
-          .phase = 3u },
-        { .kind = SIM_INJECT_VDC_MEASURED, .t_start_s = 0.0, .t_end_s = 1.0,
-          .value = INFINITY },
+        { .kind = SIM_INJECT_CURRENT_OFFSET, .t_start_s = 0.0, .t_end_s = 1.0, .phase = 3u },
+        { .kind = SIM_INJECT_VDC_MEASURED, .t_start_s = 0.0, .t_end_s = 1.0, .value = INFINITY },
         { .kind = (sim_inject_kind_t)99, .t_start_s = 0.0, .t_end_s = 1.0 },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        assert_int_equal(sim_engine_add_injection(e, &bad[i]),
-                         SIM_ENGINE_ERR_INJECTION);
+        assert_int_equal(sim_engine_add_injection(e, &bad[i]), SIM_ENGINE_ERR_INJECTION);
     }
     const sim_injection_t ok = { .kind = SIM_INJECT_FAULT_INPUT,
-                                 .t_start_s = 5.0, .t_end_s = INFINITY };
+                                 .t_start_s = 5.0,
+                                 .t_end_s = INFINITY };
     for (uint32_t i = 0; i < SIM_ENGINE_MAX_INJECTIONS; ++i) {
         assert_int_equal(sim_engine_add_injection(e, &ok), SIM_ENGINE_OK);
     }
     assert_int_equal(sim_engine_add_injection(e, &ok), SIM_ENGINE_ERR_INJECTION);
     /* A mismatched PWM frequency or encoder is refused at init. */
-    fc.f_pwm_hz = 10000.0f;
+    fc.timing.f_pwm_Hz = 10000.0f;
     assert_int_equal(sim_engine_init(e, &pc, &fc), SIM_ENGINE_ERR_MISMATCH);
-    fixture_fw_config(&fc);
+    fixture_fw_config(&pc, &fc);
     pc.sensors.encoder.lines = 1024u;
     assert_int_equal(sim_engine_init(e, &pc, &fc), SIM_ENGINE_ERR_MISMATCH);
     const mc_command_t cmd = { .enable = true };

@@ -26,11 +26,7 @@
  * sign(i) dead-time model no step size converges near current zero
  * crossings (see the plant's dead_time_current_band_A).
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -38,8 +34,7 @@
 
 #include "sim_fixture.h"
 
-#define PI_D 3.14159265358979323846
-#define RPM_PER_RAD_S (60.0 / (2.0 * PI_D))
+#define RPM_PER_RAD_S (60.0 / MC_TEST_TWO_PI)
 
 #define MAX_SPEED_DIFF_RPM 1e-3
 #define MAX_CURRENT_DIFF_A 1e-3
@@ -60,9 +55,7 @@ static double ramp_ref_rad_s(const speed_ramp_t *r, double t_since_run_s)
     if (t_since_run_s < r->t_start_s) {
         return 0.0;
     }
-    return fmin(r->final_rpm,
-                r->rate_rpm_s * (t_since_run_s - r->t_start_s)) /
-           RPM_PER_RAD_S;
+    return fmin(r->final_rpm, r->rate_rpm_s * (t_since_run_s - r->t_start_s)) / RPM_PER_RAD_S;
 }
 
 /* Load: 1 N m from t_load_s on. */
@@ -75,9 +68,8 @@ static void set_load_step(plant_config_t *pc, double t_load_s)
 }
 
 /* Run both engines until t_end_s (the drive must be in RUN by then). */
-static diff_t run_lockstep(const plant_config_t *pc_fast,
-                           const mc_config_t *fc, const speed_ramp_t *ref,
-                           double t_end_s)
+static diff_t run_lockstep(const plant_config_t *pc_fast, const mc_config_t *fc,
+                           const speed_ramp_t *ref, double t_end_s)
 {
     plant_config_t pc_ref = *pc_fast;
     pc_ref.substeps_per_period = PLANT_DEFAULT_SUBSTEPS;
@@ -88,8 +80,7 @@ static diff_t run_lockstep(const plant_config_t *pc_fast,
     diff_t d = { 0 };
     double t_run_s = INFINITY; /* first RUN sample of the reference */
     while (sim_engine_time_s(slow) < t_end_s) {
-        cmd.omega_m_ref_rad_s =
-            (float)ramp_ref_rad_s(ref, sim_engine_time_s(slow) - t_run_s);
+        cmd.omega_m_ref_rad_s = (float)ramp_ref_rad_s(ref, sim_engine_time_s(slow) - t_run_s);
         assert_int_equal(sim_engine_step(fast, &cmd), SIM_ENGINE_OK);
         assert_int_equal(sim_engine_step(slow, &cmd), SIM_ENGINE_OK);
         const sim_trace_sample_t *a = sim_engine_last(fast);
@@ -102,14 +93,12 @@ static diff_t run_lockstep(const plant_config_t *pc_fast,
             t_run_s = b->t_s;
         }
         d.speed_rpm = fmax(d.speed_rpm,
-                           fabs(a->plant.omega_m_rad_s -
-                                b->plant.omega_m_rad_s) * RPM_PER_RAD_S);
-        d.current_A = fmax(d.current_A,
-                           fmax(fabs(a->plant.i_d_A - b->plant.i_d_A),
-                                fabs(a->plant.i_q_A - b->plant.i_q_A)));
-        d.angle_rad = fmax(d.angle_rad,
-                           fabs(remainder(a->plant.theta_e_rad -
-                                          b->plant.theta_e_rad, 2.0 * PI_D)));
+                           fabs(a->plant.omega_m_rad_s - b->plant.omega_m_rad_s) * RPM_PER_RAD_S);
+        d.current_A = fmax(d.current_A, fmax(fabs(a->plant.i_d_A - b->plant.i_d_A),
+                                             fabs(a->plant.i_q_A - b->plant.i_q_A)));
+        d.angle_rad =
+            fmax(d.angle_rad,
+                 fabs(remainder(a->plant.theta_e_rad - b->plant.theta_e_rad, MC_TEST_TWO_PI)));
     }
     assert_true(t_run_s < t_end_s);
     free(fast);
@@ -120,8 +109,8 @@ static diff_t run_lockstep(const plant_config_t *pc_fast,
 static void check(const diff_t *d, const char *label)
 {
     print_message("%s: max |fast - 1 us RK4|: speed %.3g rpm, i_dq %.3g A, "
-                  "theta_e %.3g rad\n", label, d->speed_rpm, d->current_A,
-                  d->angle_rad);
+                  "theta_e %.3g rad\n",
+                  label, d->speed_rpm, d->current_A, d->angle_rad);
     assert_true(d->speed_rpm <= MAX_SPEED_DIFF_RPM);
     assert_true(d->current_A <= MAX_CURRENT_DIFF_A);
     assert_true(d->angle_rad <= MAX_ANGLE_DIFF_RAD);
@@ -133,12 +122,12 @@ static void test_sensorless_idapbc(void **state)
     plant_config_t pc;
     mc_config_t fc;
     fixture_configs(&pc, &fc);
-    fc.angle_source = MC_ANGLE_SOURCE_FLUX_OBSERVER;
     fc.controller = MC_CONTROLLER_IDAPBC;
+    fc.estimator = MC_ESTIMATOR_FLUX_II;
     const speed_ramp_t ref = { 0.1, 300.0, 60.0 };
     /* The load step comes while the speed holds 60 rpm; ALIGN ends at
-     * most calibration + align_time_s after the start. */
-    const double t_run_max_s = 0.1 + (double)fc.align_time_s;
+     * most calibration + align.timeout_s after the start. */
+    const double t_run_max_s = 0.1 + (double)fc.align.timeout_s;
     set_load_step(&pc, t_run_max_s + 0.4);
     const diff_t d = run_lockstep(&pc, &fc, &ref, t_run_max_s + 0.8);
     check(&d, "sensorless IDA-PBC");

@@ -17,11 +17,7 @@
  * 0.05 rad/s (0.25 % of the set point) from t_L + 0.3 s on, where the
  * analytic deviation is 0.03 rad/s.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <setjmp.h>
-#include <cmocka.h>
+#include "mc_test.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -30,10 +26,10 @@
 #include "sim_fixture.h"
 
 #define OMEGA_REF_RAD_S 20.0
-#define T_LOAD_NM 2.0
-#define T_STEP_S 0.05    /* speed step */
-#define T_LOAD_S 0.6     /* load step */
-#define T_END_S 1.1
+#define T_LOAD_NM       2.0
+#define T_STEP_S        0.05 /* speed step */
+#define T_LOAD_S        0.6  /* load step */
+#define T_END_S         1.1
 
 typedef struct {
     double dip;     /* most negative speed deviation, rad/s */
@@ -44,15 +40,14 @@ typedef struct {
  * equilibrium (speed error 0): Euler, h = 1 us, 0.3 s. */
 static dip_t reference_dip(const mc_config_t *fc, double T_L)
 {
-    const double J = (double)fc->J_kgm2;
-    const double k_t = 1.5 * (double)fc->pole_pairs * (double)fc->psi_Wb;
-    const double w_s = (double)fc->speed_bandwidth_rad_s;
-    const double w_c = (double)fc->current_bandwidth_rad_s;
-    const double w_p = (double)fc->pll_bandwidth_rad_s;
+    const double J = (double)fc->motor.J_kgm2;
+    const double k_t = 1.5 * (double)fc->motor.pole_pairs * (double)fc->motor.psi_Wb;
+    const double w_s = (double)fc->foc_pi.speed_bandwidth_rad_s;
+    const double w_c = (double)fc->current.bandwidth_rad_s;
+    const double w_p = (double)fc->encoder.pll_bandwidth_rad_s;
     const double kp = J * w_s / k_t;
     const double ki = kp * w_s / 4.0;
-    const double delay_s = 0.5 * (double)fc->speed_loop_decimation /
-                           (double)fc->f_pwm_hz;
+    const double delay_s = 0.5 / (double)fc->timing.slow_loop_Hz;
     const double h = 1e-6;
     const size_t n_delay = (size_t)llround(delay_s / h);
     const size_t n = (size_t)(0.3 / h);
@@ -62,11 +57,10 @@ static dip_t reference_dip(const mc_config_t *fc, double T_L)
     double w = 0.0, iq = 0.0, f1 = 0.0, f2 = 0.0, integ = 0.0;
     dip_t d = { 0.0, 0.0 };
     for (size_t k = 0; k < n; ++k) {
-        const double e = -f2;                 /* reference - estimate */
+        const double e = -f2; /* reference - estimate */
         integ += ki * e * h;
         iq_ref_hist[k % (n_delay + 1u)] = kp * e + integ;
-        const double iq_ref = (k >= n_delay)
-            ? iq_ref_hist[(k - n_delay) % (n_delay + 1u)] : 0.0;
+        const double iq_ref = (k >= n_delay) ? iq_ref_hist[(k - n_delay) % (n_delay + 1u)] : 0.0;
         const double dw = (k_t * iq - T_L) / J;
         const double diq = w_c * (iq_ref - iq);
         const double df1 = w_p * (w - f1);
@@ -95,9 +89,9 @@ static void test_speed_step_then_load_step(void **state)
     pc.load_torque_Nm.points[0] = (sim_profile_point_t){ T_LOAD_S, 0.0 };
     pc.load_torque_Nm.points[1] = (sim_profile_point_t){ T_LOAD_S, T_LOAD_NM };
     pc.load_torque_Nm.n_points = 2u;
-    fixture_fw_config(&fc);
-    const double J = (double)fc.J_kgm2;
-    const double w_s = (double)fc.speed_bandwidth_rad_s;
+    fixture_fw_config(&pc, &fc);
+    const double J = (double)fc.motor.J_kgm2;
+    const double w_s = (double)fc.foc_pi.speed_bandwidth_rad_s;
 
     mc_command_t cmd = { .enable = true, .mode = MC_MODE_SPEED };
     sim_engine_t *e = fixture_running(&pc, &fc, &cmd);
@@ -113,9 +107,8 @@ static void test_speed_step_then_load_step(void **state)
         const double err = s->plant.omega_m_rad_s - OMEGA_REF_RAD_S;
         if (s->t_s >= T_LOAD_S - 0.1 && s->t_s < T_LOAD_S) {
             err_pre_max = fmax(err_pre_max, fabs(err));
-            est_err_max = fmax(est_err_max,
-                               fabs((double)s->fw.omega_m_rad_s -
-                                    s->plant.omega_m_rad_s));
+            est_err_max =
+                fmax(est_err_max, fabs((double)s->fw.omega_m_rad_s - s->plant.omega_m_rad_s));
         }
         if (s->t_s >= T_LOAD_S && err < dip) {
             dip = err;
@@ -128,14 +121,16 @@ static void test_speed_step_then_load_step(void **state)
     const double dip_expected = -(T_LOAD_NM / J) * (2.0 / w_s) / exp(1.0);
     const double t_dip_expected = 2.0 / w_s;
     printf("before load: max |speed error| %.4f rad/s, max |estimate error| "
-           "%.4f rad/s\n", err_pre_max, est_err_max);
+           "%.4f rad/s\n",
+           err_pre_max, est_err_max);
     printf("load step %.1f N m: dip %.3f rad/s at +%.1f ms (analytic %.3f at "
-           "+%.1f ms)\n", T_LOAD_NM, dip, t_dip * 1e3, dip_expected,
-           t_dip_expected * 1e3);
+           "+%.1f ms)\n",
+           T_LOAD_NM, dip, t_dip * 1e3, dip_expected, t_dip_expected * 1e3);
     printf("from +0.3 s: max |speed error| %.4f rad/s\n", err_late_max);
     const dip_t ref = reference_dip(&fc, T_LOAD_NM);
     printf("reference loop with the designed lags: dip %.3f rad/s at +%.1f "
-           "ms\n", ref.dip, ref.t_dip_s * 1e3);
+           "ms\n",
+           ref.dip, ref.t_dip_s * 1e3);
 
     /* Settled at the set point before the load step (integral action). */
     assert_true(err_pre_max < 0.05);
@@ -146,7 +141,7 @@ static void test_speed_step_then_load_step(void **state)
     assert_true(fabs(t_dip - ref.t_dip_s) <= 0.05 * ref.t_dip_s);
     assert_true(err_late_max < 0.05);
     /* The load is carried by i_q = T_L / k_t at the end. */
-    const double k_t = 1.5 * (double)fc.pole_pairs * (double)fc.psi_Wb;
+    const double k_t = 1.5 * (double)fc.motor.pole_pairs * (double)fc.motor.psi_Wb;
     const sim_trace_sample_t *s = sim_engine_last(e);
     assert_true(fabs(s->plant.i_q_A - T_LOAD_NM / k_t) < 0.02 * T_LOAD_NM / k_t);
     free(e);
@@ -181,7 +176,8 @@ static void test_position_step(void **state)
         }
     }
     printf("position step 2 rad: overshoot %.5f rad, max |error| in "
-           "[1.0, 1.2] s: %.6f rad\n", peak - 2.0, err_late);
+           "[1.0, 1.2] s: %.6f rad\n",
+           peak - 2.0, err_late);
     assert_true(peak - 2.0 < 0.2);
     assert_true(err_late < 2.0 * 3.14159265358979 / 10000.0);
     free(e);

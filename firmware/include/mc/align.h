@@ -65,26 +65,36 @@
 
 #include "mc/status.h"
 
+#define MC_ALIGN_TIMEOUT_MAX_S 10.0f
+
+/* The tunable part (the configuration block "align"). */
 typedef struct {
-    float i_align_A;            /* d current I_a, > 0 */
+    float current_A;            /* d current I_a, > 0 */
     float ramp_s;               /* phase-1 ramp, [0, timeout_s] */
-    float timeout_s;            /* whole alignment, > 0, at most 2^30 Ts */
-    float angle_e_rad;          /* theta_a, finite */
+    float timeout_s;            /* whole alignment (both phases): not
+                                   settled by then = MC_ALIGN_TIMEOUT;
+                                   (0, MC_ALIGN_TIMEOUT_MAX_S], at most
+                                   2^30 Ts */
+    float angle_e_rad;          /* theta_a, |.| <= 2 pi */
     float damping_ratio;        /* zeta, (0, 10] */
     float i_q_max_A;            /* damping current limit, > 0 */
     float settle_speed_e_rad_s; /* |omega_e_hat| threshold, > 0 */
     float settle_time_s;        /* hold time, [Ts, timeout_s) */
-    float R_ohm, L_H, psi_Wb;   /* nominal motor: R >= 0, L, psi > 0 */
-    float J_kgm2;               /* > 0 */
-    float kt_Nm_per_A;          /* 1.5 n_p psi, > 0 */
-    uint32_t pole_pairs;        /* >= 1 */
-    float Ts_s;                 /* sample period, > 0 */
+} mc_align_config_t;
+
+typedef struct {
+    mc_align_config_t cfg;
+    float R_ohm, L_H, psi_Wb; /* nominal motor: R >= 0, L, psi > 0 */
+    float J_kgm2;             /* > 0 */
+    float kt_Nm_per_A;        /* 1.5 n_p psi, > 0 */
+    uint32_t pole_pairs;      /* >= 1 */
+    float Ts_s;               /* sample period, > 0 */
 } mc_align_params_t;
 
 typedef enum {
     MC_ALIGN_BUSY = 0,
-    MC_ALIGN_DONE,              /* phase 2 settled: rotor at theta_a */
-    MC_ALIGN_TIMEOUT            /* not settled within timeout_s */
+    MC_ALIGN_DONE,   /* phase 2 settled: rotor at theta_a */
+    MC_ALIGN_TIMEOUT /* not settled within timeout_s */
 } mc_align_state_t;
 
 typedef struct {
@@ -96,12 +106,12 @@ typedef struct {
 typedef struct {
     /* design */
     float theta_e_rad[2], sin_e[2], cos_e[2]; /* phase 1, phase 2 */
-    float i_align_A, i_q_max_A, k_d_A_s_per_rad;
+    float current_A, i_q_max_A, k_d_A_s_per_rad;
     float R_ohm, L_over_Ts_ohm, inv_psi_per_Wb, lpf_a;
     float settle_speed_e_rad_s;
     uint32_t ramp_n, timeout_n, settle_n;
     /* state */
-    uint32_t phase;             /* 0 = phase 1, 1 = phase 2 */
+    uint32_t phase; /* 0 = phase 1, 1 = phase 2 */
     uint32_t n_total, n_phase, n_settled;
     float i_al_prev_A, i_be_prev_A;
     bool have_prev;
@@ -132,7 +142,7 @@ static inline float mc_align_theta_e_f32(const mc_align_f32_t *a)
  * After DONE or TIMEOUT the state stays. MC_ERR_NONFINITE for a non-finite
  * input or estimate (state untouched). Interrupt context: yes; bounded. */
 mc_status_t mc_align_step_f32(mc_align_f32_t *a, float i_alpha_A,
-                              float i_beta_A, float v_alpha_V,
-                              float v_beta_V, mc_align_out_t *out);
+                              float i_beta_A, float v_alpha_V, float v_beta_V,
+                              mc_align_out_t *out);
 
 #endif /* MC_ALIGN_H */

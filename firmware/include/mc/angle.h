@@ -27,17 +27,17 @@
 
 #include "mc/status.h"
 
-#define MC_PI_F 3.14159265358979323846f
-#define MC_TWO_PI_F 6.28318530717958647692f
+#define MC_PI_F      3.14159265358979323846f
+#define MC_TWO_PI_F  6.28318530717958647692f
 #define MC_HALF_PI_F 1.57079632679489661923f
 
 /* Largest |theta| accepted by wrap/diff/sincos. */
 #define MC_ANGLE_MAX_ABS_RAD 25000.0f
 
 /* Documented (and tested) maximum absolute errors over the accepted range. */
-#define MC_WRAP_PI_MAX_ERR_RAD 5.0e-7f   /* vs exact theta - 2*pi*k */
-#define MC_SINCOS_MAX_ABS_ERR 3.0e-7f    /* |sin - sin_exact|, same for cos */
-#define MC_ATAN2_MAX_ERR_RAD 1.0e-6f     /* vs exact atan2 of the inputs */
+#define MC_WRAP_PI_MAX_ERR_RAD 5.0e-7f /* vs exact theta - 2*pi*k */
+#define MC_SINCOS_MAX_ABS_ERR  3.0e-7f /* |sin - sin_exact|, same for cos */
+#define MC_ATAN2_MAX_ERR_RAD   1.0e-6f /* vs exact atan2 of the inputs */
 
 /*
  * Wrap theta to (-pi, pi]: returns theta - 2*pi*k for the integer k that
@@ -50,7 +50,8 @@
 float mc_wrap_pi_f32(float theta_rad);
 
 /* Signed shortest angle from b to a: wrap(a - b) in (-pi, pi].
- * Same range rules as mc_wrap_pi_f32 (applied to a - b). Interrupt context: yes. */
+ * Same range rules as mc_wrap_pi_f32 (applied to a - b). Interrupt context:
+ * yes. */
 static inline float mc_angle_diff_f32(float a_rad, float b_rad)
 {
     return mc_wrap_pi_f32(a_rad - b_rad);
@@ -110,7 +111,8 @@ mc_status_t mc_unwrap_init_f32(mc_unwrap_f32_t *u, float theta_wrapped_rad);
 /* One sample: returns the continuous angle e + 2*pi*n (float).
  * Non-finite input: returns NaN and leaves the state unchanged.
  * Turn counter at INT32_MAX/INT32_MIN and asked to go further: returns NaN
- * and leaves the state unchanged (a fault, never a silent wrap). Interrupt context: yes. */
+ * and leaves the state unchanged (a fault, never a silent wrap). Interrupt
+ * context: yes. */
 float mc_unwrap_step_f32(mc_unwrap_f32_t *u, float theta_wrapped_rad);
 
 /* Exact integer turn count n of the last step. Interrupt context: yes. */

@@ -21,8 +21,8 @@
 
 #include "mc/q31.h"
 
-#define MC_Q31_ONE_THIRD ((int64_t)715827883)   /* round(2^31 / 3) */
-#define MC_Q31_INV_SQRT3 ((int64_t)1239850262)  /* round(2^31 / sqrt(3)) */
+#define MC_Q31_ONE_THIRD  ((int64_t)715827883)  /* round(2^31 / 3) */
+#define MC_Q31_INV_SQRT3  ((int64_t)1239850262) /* round(2^31 / sqrt(3)) */
 #define MC_Q31_SQRT3_BY_2 ((int64_t)1859775393) /* round(2^31 sqrt(3) / 2) */
 
 /* Three-phase input, no assumption a + b + c = 0:
@@ -42,8 +42,8 @@ static inline void mc_clarke_q31(mc_q31_t i_a, mc_q31_t i_b, mc_q31_t i_c,
  *   alpha = a,  beta = (a + 2 b) / sqrt(3).
  * |a + 2b| <= 3 * 2^31, times the constant < 8.0e18 < 2^63.
  * Interrupt context: yes. */
-static inline void mc_clarke2_q31(mc_q31_t i_a, mc_q31_t i_b,
-                                  mc_q31_t *i_alpha, mc_q31_t *i_beta)
+static inline void mc_clarke2_q31(mc_q31_t i_a, mc_q31_t i_b, mc_q31_t *i_alpha,
+                                  mc_q31_t *i_beta)
 {
     const int64_t x_beta = (int64_t)i_a + 2 * (int64_t)i_b;
     *i_alpha = i_a;
@@ -68,8 +68,8 @@ static inline void mc_inv_clarke_wide_q31(mc_q31_t alpha, mc_q31_t beta,
 
 /* Inverse Clarke, saturated to Q31 (same semantics as mc_inv_clarke_f32).
  * Interrupt context: yes. */
-static inline void mc_inv_clarke_q31(mc_q31_t alpha, mc_q31_t beta,
-                                     mc_q31_t *a, mc_q31_t *b, mc_q31_t *c)
+static inline void mc_inv_clarke_q31(mc_q31_t alpha, mc_q31_t beta, mc_q31_t *a,
+                                     mc_q31_t *b, mc_q31_t *c)
 {
     int64_t abc[3];
     mc_inv_clarke_wide_q31(alpha, beta, abc);

@@ -15,7 +15,7 @@
  * Gain design (pole-zero cancellation): the axis plant is 1/(L s + R); with
  * kp = L * w_c and ki = R * w_c the open loop is w_c / s and the closed loop
  * the first-order lag w_c / (s + w_c) (10-90 % rise time ln(9)/w_c), up to the
- * 1.5-period computation + PWM delay, which is negligible for
+ * computation + PWM delay (at most 1.5 periods), which is negligible for
  * w_c * 1.5 * Ts << 1.
  *
  * Units: A, V, rad/s (electrical), H, ohm, Wb, s.
@@ -41,13 +41,23 @@ typedef struct {
 mc_status_t mc_current_pi_design_f32(float R_ohm, float L_H, float w_c_rad_s,
                                      mc_current_pi_gains_t *out);
 
+/* Largest w_c Ts: with up to 1.5 periods of computation + PWM delay the
+ * phase margin is 90 deg - 1.5 w_c Ts rad >= 47 deg. */
+#define MC_CURRENT_LOOP_WTS_MAX 0.5f
+
+/* The tunable part (the configuration block "current"). */
 typedef struct {
-    float R_ohm;              /* nominal stator resistance */
-    float Ld_H, Lq_H;         /* nominal d/q inductances */
-    float psi_Wb;             /* nominal PM flux linkage */
-    float bandwidth_rad_s;    /* designed closed-loop bandwidth w_c */
-    float modulation_margin;  /* m in (0, 1]: v_max = m * v_dc / sqrt(3) */
-    float Ts_s;               /* sample period (PWM period) */
+    float bandwidth_rad_s;   /* designed closed-loop bandwidth w_c, > 0,
+                                w_c Ts <= MC_CURRENT_LOOP_WTS_MAX */
+    float modulation_margin; /* m in (0, 1]: v_max = m * v_dc / sqrt(3) */
+} mc_current_loop_config_t;
+
+typedef struct {
+    mc_current_loop_config_t cfg;
+    float R_ohm;      /* nominal stator resistance */
+    float Ld_H, Lq_H; /* nominal d/q inductances */
+    float psi_Wb;     /* nominal PM flux linkage */
+    float Ts_s;       /* sample period (PWM period) */
 } mc_current_loop_params_t;
 
 typedef struct {
@@ -58,8 +68,8 @@ typedef struct {
 
 /* Output of one step. */
 typedef struct {
-    float v_d_V, v_q_V;  /* limited voltage references */
-    bool saturated;      /* the voltage limit was active on either axis */
+    float v_d_V, v_q_V; /* limited voltage references */
+    bool saturated;     /* the voltage limit was active on either axis */
 } mc_current_loop_out_t;
 
 /* Validate the parameters, design the gains and reset the integrators.
@@ -86,10 +96,9 @@ void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
  * > 0 (MC_ERR_RANGE otherwise, outputs zeroed, integrators untouched).
  * Returns MC_ERR_NONFINITE if an output is not finite.
  * Interrupt context: yes (bounded: one sqrtf). */
-mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl,
-                                     float i_d_A, float i_q_A,
-                                     float i_d_ref_A, float i_q_ref_A,
-                                     float omega_e_rad_s, float v_dc_V,
-                                     mc_current_loop_out_t *out);
+mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl, float i_d_A,
+                                     float i_q_A, float i_d_ref_A,
+                                     float i_q_ref_A, float omega_e_rad_s,
+                                     float v_dc_V, mc_current_loop_out_t *out);
 
 #endif /* MC_CURRENT_LOOP_H */

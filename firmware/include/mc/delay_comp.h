@@ -3,16 +3,15 @@
  * computed in ISR k take effect in the next PWM period" for a sensorless
  * observer-based controller, float32.
  *
- * Timing parameter d (delay_periods): the voltage commanded in ISR k (which
- * runs right after the current sample at t_k) is applied over the interval
- * [t_k + (d - 1/2) Ts, t_k + (d + 1/2) Ts], i.e. centred d periods after
- * the sample. Valid range 1/2 <= d <= 3/2:
- *   d = 1.5  sample at the start of a PWM period, duties latched at the
- *            start of the next one (the textbook "1.5 Ts" delay; also a
- *            period-average simulator that samples at the period boundary
- *            and applies ISR k's duties over the period after next);
- *   d = 1.0  the HAL contract (hal/pwm.h): sample at the PWM centre, duties
- *            latched at the start of the next period, half a period later;
+ * Timing parameter d (delay_periods, the drive's timing record
+ * mc/timing.h, which takes it from the HAL backend, hal/pwm.h): the voltage
+ * commanded in ISR k (which runs right after the current sample at t_k) is
+ * applied over the interval [t_k + (d - 1/2) Ts, t_k + (d + 1/2) Ts], i.e.
+ * centred d periods after the sample. Valid range 1/2 <= d <= 3/2:
+ *   d = 1.5  duties latched a full period after the sample (the textbook
+ *            "1.5 Ts" delay: one update event per period, at the sample);
+ *   d = 1.0  duties latched half a period after the sample (an update
+ *            event at the opposite end of the carrier);
  *   d = 0.5  no computation delay (duties apply right after the sample).
  *
  * 1) Voltage angle advance (switchable). The dq voltage is meant for the
@@ -46,7 +45,9 @@
 #include "mc/angle.h"
 #include "mc/status.h"
 
-#define MC_DELAY_PERIODS_DEFAULT 1.5f
+/* Valid sample-to-apply delays d, periods. */
+#define MC_DELAY_PERIODS_MIN 0.5f
+#define MC_DELAY_PERIODS_MAX 1.5f
 
 typedef struct {
     float advance_s; /* d * Ts */
@@ -81,9 +82,9 @@ static inline float mc_delay_comp_angle_f32(const mc_delay_comp_f32_t *dc,
 }
 
 typedef struct {
-    float w_older;                  /* d - 1/2, weight of v_{k-2} */
-    float v_older_V[2];             /* v_{k-2} (alpha, beta) */
-    float v_newer_V[2];             /* v_{k-1} (alpha, beta) */
+    float w_older;      /* d - 1/2, weight of v_{k-2} */
+    float v_older_V[2]; /* v_{k-2} (alpha, beta) */
+    float v_newer_V[2]; /* v_{k-1} (alpha, beta) */
 } mc_applied_voltage_f32_t;
 
 /* Validate 0.5 <= delay_periods <= 1.5 (finite) and reset the history to
@@ -99,8 +100,9 @@ mc_status_t mc_applied_voltage_reset_f32(mc_applied_voltage_f32_t *av,
 
 /* Mean voltage applied over [t_{k-1}, t_k]; call in ISR k BEFORE pushing
  * this ISR's command. Interrupt context: yes. */
-static inline void mc_applied_voltage_last_f32(
-    const mc_applied_voltage_f32_t *av, float *v_alpha_V, float *v_beta_V)
+static inline void
+mc_applied_voltage_last_f32(const mc_applied_voltage_f32_t *av,
+                            float *v_alpha_V, float *v_beta_V)
 {
     const float w_old = av->w_older;
     const float w_new = 1.0f - w_old;
@@ -110,8 +112,9 @@ static inline void mc_applied_voltage_last_f32(
 
 /* Record the voltage commanded in ISR k (as the inverter will produce it).
  * Non-finite: MC_ERR_NONFINITE, state untouched. Interrupt context: yes. */
-static inline mc_status_t mc_applied_voltage_push_f32(
-    mc_applied_voltage_f32_t *av, float v_alpha_V, float v_beta_V)
+static inline mc_status_t
+mc_applied_voltage_push_f32(mc_applied_voltage_f32_t *av, float v_alpha_V,
+                            float v_beta_V)
 {
     if (!isfinite(v_alpha_V) || !isfinite(v_beta_V)) {
         return MC_ERR_NONFINITE;

@@ -21,7 +21,11 @@
  *
  * Quantization: a count c means the shaft is in [c, c+1) counts (the
  * encoder floors), so the measured angle is taken at the centre,
- * (c + 0.5) * 2 pi / cpr: unbiased, error within +-pi / cpr.
+ * (c + 0.5) * 2 pi / cpr: unbiased, error within +-pi / cpr plus the
+ * float32 rounding: 2 pi / cpr to 2^-24 relative (3.7e-7 rad over a turn),
+ * the product to half an ulp (2.4e-7 rad), the wrap (1.2e-7 rad), at most
+ * 7.3e-7 rad, under one count up to the largest cpr (2^23, where a count is
+ * 7.5e-7 rad; measured over the counts of 2^20 to 2^23: 4.2e-7 rad).
  */
 #ifndef MC_ENCODER_TRACKER_H
 #define MC_ENCODER_TRACKER_H
@@ -31,41 +35,52 @@
 
 #include "mc/status.h"
 
+/* Counts per revolution: at least 4; at most 2^23, the largest count for
+ * which count + 0.5 is exact in float32 (the angle is (count + 0.5) 2 pi /
+ * cpr). */
+#define MC_ENCODER_CPR_MIN 4u
+#define MC_ENCODER_CPR_MAX (1u << 23)
+/* Largest w_pll Ts: the discrete PLL stays well damped. */
+#define MC_ENCODER_PLL_WTS_MAX 0.5f
+
 typedef struct {
     uint32_t cpr;
     uint32_t pole_pairs;
     float offset_e_rad;
     float rad_per_count;
-    float kp_per_s;           /* 2 w_pll */
-    float ki_Ts_per_s;        /* ki Ts = w_pll^2 Ts (per-sample gain) */
+    float kp_per_s;    /* 2 w_pll */
+    float ki_Ts_per_s; /* ki Ts = w_pll^2 Ts (per-sample gain) */
     float Ts_s;
     /* state */
     bool primed;
     uint32_t last_count;
     int64_t position_counts;
-    float theta_hat_rad;      /* PLL angle, single turn, (-pi, pi]*/
-    float omega_hat_rad_s;    /* PLL speed, mechanical */
+    float theta_hat_rad;   /* PLL angle, single turn, (-pi, pi]*/
+    float omega_hat_rad_s; /* PLL speed, mechanical */
 } mc_encoder_tracker_f32_t;
 
 typedef struct {
-    float theta_m_rad;        /* multi-turn mechanical position */
-    float theta_e_rad;        /* electrical angle in (-pi, pi] */
-    float omega_m_rad_s;      /* mechanical speed estimate */
+    float theta_m_rad;   /* multi-turn mechanical position */
+    float theta_e_rad;   /* electrical angle in (-pi, pi] */
+    float omega_m_rad_s; /* mechanical speed estimate */
 } mc_encoder_estimate_t;
 
-/* cpr in [4, 2^30], pole_pairs in [1, 64], |offset_e_rad| <= 2 pi,
- * w_pll_rad_s > 0, Ts_s > 0 and w_pll * Ts <= 0.5 (discrete PLL stays well
- * damped): MC_ERR_PARAM otherwise (MC_ERR_NONFINITE for NaN/Inf). The first
- * update primes the tracker: multi-turn position starts at that count's
- * angle within the first turn, speed at 0. Interrupt context: no. */
-mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et, uint32_t cpr,
-                                    uint32_t pole_pairs, float offset_e_rad,
-                                    float w_pll_rad_s, float Ts_s);
+/* cpr in [MC_ENCODER_CPR_MIN, MC_ENCODER_CPR_MAX], pole_pairs in [1, 64],
+ * |offset_e_rad| <= 2 pi, w_pll_rad_s > 0, Ts_s > 0 and
+ * w_pll * Ts <= MC_ENCODER_PLL_WTS_MAX: MC_ERR_PARAM otherwise
+ * (MC_ERR_NONFINITE for NaN/Inf). The first update primes the tracker:
+ * multi-turn position starts at that count's angle within the first turn, speed
+ * at 0. Interrupt context: no. */
+mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
+                                        uint32_t cpr, uint32_t pole_pairs,
+                                        float offset_e_rad, float w_pll_rad_s,
+                                        float Ts_s);
 
 /* One sample: count in [0, cpr) (MC_ERR_RANGE otherwise, state unchanged,
  * *out untouched). The count may move by less than cpr/2 between samples.
  * Interrupt context: yes (bounded). */
-mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et, uint32_t count,
-                                      mc_encoder_estimate_t *out);
+mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et,
+                                          uint32_t count,
+                                          mc_encoder_estimate_t *out);
 
 #endif /* MC_ENCODER_TRACKER_H */

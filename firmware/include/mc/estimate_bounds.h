@@ -23,8 +23,8 @@ typedef struct {
 
 /* MC_OK if both bounds are finite and > 0, else MC_ERR_PARAM.
  * Interrupt context: yes (but meant for init). */
-static inline mc_status_t mc_estimate_bounds_validate(
-    const mc_estimate_bounds_t *b)
+static inline mc_status_t
+mc_estimate_bounds_validate(const mc_estimate_bounds_t *b)
 {
     const int ok = isfinite(b->omega_m_max_rad_s) && isfinite(b->tau_max_Nm) &&
                    b->omega_m_max_rad_s > 0.0f && b->tau_max_Nm > 0.0f;
@@ -34,8 +34,9 @@ static inline mc_status_t mc_estimate_bounds_validate(
 /* MC_OK if |omega_m_rad_s| <= omega_m_max and |tau_Nm| <= tau_max,
  * MC_ERR_NONFINITE for NaN/Inf, MC_ERR_RANGE otherwise.
  * Interrupt context: yes. */
-static inline mc_status_t mc_estimate_bounds_check(
-    const mc_estimate_bounds_t *b, float omega_m_rad_s, float tau_Nm)
+static inline mc_status_t
+mc_estimate_bounds_check(const mc_estimate_bounds_t *b, float omega_m_rad_s,
+                         float tau_Nm)
 {
     if (!isfinite(omega_m_rad_s) || !isfinite(tau_Nm)) {
         return MC_ERR_NONFINITE;

@@ -13,33 +13,40 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/finite.h"
 #include "mc/status.h"
 
 typedef enum {
-    MC_FAULT_NONE            = 0u,
-    MC_FAULT_OVERCURRENT     = 1u << 0, /* |i_a|, |i_b| or |i_c| > trip level */
-    MC_FAULT_DC_OVERVOLTAGE  = 1u << 1, /* v_dc > v_dc_max_V */
+    MC_FAULT_NONE = 0u,
+    MC_FAULT_OVERCURRENT = 1u << 0,     /* |i_a|, |i_b| or |i_c| > trip level */
+    MC_FAULT_DC_OVERVOLTAGE = 1u << 1,  /* v_dc > v_dc_max_V */
     MC_FAULT_DC_UNDERVOLTAGE = 1u << 2, /* v_dc < v_dc_min_V (while powered) */
-    MC_FAULT_NONFINITE       = 1u << 3, /* NaN/Inf in a measurement, estimate,
+    MC_FAULT_NONFINITE = 1u << 3,       /* NaN/Inf in a measurement, estimate,
                                            reference or output */
-    MC_FAULT_ISR_OVERRUN     = 1u << 4, /* fast-ISR cost > PWM period */
-    MC_FAULT_EXTERNAL        = 1u << 5, /* fault/STO input asserted */
-    MC_FAULT_CALIBRATION     = 1u << 6, /* current offset outside its limit */
-    MC_FAULT_ENCODER         = 1u << 7, /* count outside [0, cpr) */
-    MC_FAULT_ESTIMATE        = 1u << 8  /* sensorless estimate implausible
+    MC_FAULT_ISR_OVERRUN = 1u << 4,     /* fast-ISR cost > PWM period */
+    MC_FAULT_EXTERNAL = 1u << 5,        /* fault/STO input asserted */
+    MC_FAULT_CALIBRATION = 1u << 6,     /* current offset outside its limit */
+    MC_FAULT_ENCODER = 1u << 7,         /* count outside [0, cpr) */
+    MC_FAULT_ESTIMATE = 1u << 8         /* sensorless estimate implausible
                                            (speed, load or flux out of its
                                            bounds: diverged observer) */
 } mc_fault_t;
 
-/* Protection thresholds (SI units). */
+/* Protection thresholds (SI units): the configuration block "protection". */
 typedef struct {
-    float i_trip_A;      /* over-current trip on each phase, > 0 */
-    float v_dc_max_V;    /* over-voltage trip, > v_dc_min_V */
-    float v_dc_min_V;    /* under-voltage trip, >= 0 */
+    float i_trip_A;       /* over-current trip on each phase, > 0 */
+    float v_dc_max_V;     /* over-voltage trip, > v_dc_min_V */
+    float v_dc_min_V;     /* under-voltage trip, >= 0 */
+    float i_offset_max_A; /* calibration fault above this offset, > 0 */
+    float estimate_omega_max_rad_s; /* |omega_m_hat| above:
+                                       MC_FAULT_ESTIMATE, > 0 */
+    float estimate_tau_max_Nm;      /* |tau_L_hat| above:
+                                       MC_FAULT_ESTIMATE, > 0 */
 } mc_fault_limits_t;
 
-/* Check the limits: all finite, i_trip_A > 0, 0 <= v_dc_min_V < v_dc_max_V.
- * Returns MC_OK, MC_ERR_NONFINITE (a NaN/Inf limit) or MC_ERR_PARAM.
+/* Check the limits: all finite, i_trip_A > 0, 0 <= v_dc_min_V < v_dc_max_V,
+ * the others > 0. Returns MC_OK, MC_ERR_NONFINITE (a NaN/Inf limit) or
+ * MC_ERR_PARAM.
  * Interrupt context: no (init only). */
 mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);
 
@@ -53,9 +60,5 @@ mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);
 uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
                                 const float i_abc_A[3], float v_dc_V,
                                 bool check_undervoltage);
-
-/* True if every element of x[0..n) is finite. Callable from interrupt
- * context: yes. */
-bool mc_all_finite_f32(const float *x, uint32_t n);
 
 #endif /* MC_FAULTS_H */

@@ -60,19 +60,19 @@
 #define MC_FLUX_OBS_GAMMA_DEFAULT 5000.0f
 
 typedef struct {
-    float R_ohm;       /* stator resistance, >= 0 */
-    float L_H;         /* stator inductance, > 0 */
-    float flux_Wb;     /* PM flux linkage Phi, > 0 */
-    float gamma;       /* observer gain, > 0, 1/(Wb^2 s) */
-    float Ts_s;        /* sample period, 0 < Ts < 1/(gamma Phi^2) */
+    float R_ohm;  /* stator resistance, >= 0 */
+    float L_H;    /* stator inductance, > 0 */
+    float psi_Wb; /* PM flux linkage Phi, > 0 */
+    float gamma;  /* observer gain, > 0, 1/(Wb^2 s) */
+    float Ts_s;   /* sample period, 0 < Ts < 1/(gamma Phi^2) */
 } mc_flux_obs_params_t;
 
 typedef struct {
     /* configuration (from init) */
     float Ts_s, R_ohm, L_H;
-    float flux_Wb;        /* Phi */
-    float flux_sq_Wb2;    /* Phi^2 */
-    float inv_flux_per_Wb;/* 1/Phi */
+    float psi_Wb;         /* Phi */
+    float psi_sq_Wb2;     /* Phi^2 */
+    float inv_psi_per_Wb; /* 1/Phi */
     float gamma;
     /* state */
     float lambda_alpha_Wb, lambda_beta_Wb; /* lambda_hat_k */
@@ -123,8 +123,8 @@ static inline float mc_flux_obs_theta_e_f32(const mc_flux_obs_f32_t *obs)
 static inline void mc_flux_obs_rho_f32(const mc_flux_obs_f32_t *obs,
                                        float *rho_alpha, float *rho_beta)
 {
-    *rho_alpha = obs->eta_alpha_Wb * obs->inv_flux_per_Wb;
-    *rho_beta = obs->eta_beta_Wb * obs->inv_flux_per_Wb;
+    *rho_alpha = obs->eta_alpha_Wb * obs->inv_psi_per_Wb;
+    *rho_beta = obs->eta_beta_Wb * obs->inv_psi_per_Wb;
 }
 
 /* |rho_hat|^2 = |eta|^2 / Phi^2: 1 on the observer's circle; a value far
@@ -132,8 +132,8 @@ static inline void mc_flux_obs_rho_f32(const mc_flux_obs_f32_t *obs,
  * Interrupt context: yes. */
 static inline float mc_flux_obs_rho_sq_f32(const mc_flux_obs_f32_t *obs)
 {
-    const float ra = obs->eta_alpha_Wb * obs->inv_flux_per_Wb;
-    const float rb = obs->eta_beta_Wb * obs->inv_flux_per_Wb;
+    const float ra = obs->eta_alpha_Wb * obs->inv_psi_per_Wb;
+    const float rb = obs->eta_beta_Wb * obs->inv_psi_per_Wb;
     return ra * ra + rb * rb;
 }
 

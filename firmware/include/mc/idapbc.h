@@ -76,25 +76,25 @@
 #include "mc/status.h"
 
 typedef struct {
-    float R_ohm;          /* >= 0 */
-    float L_H;            /* > 0 */
-    float flux_Wb;        /* Phi > 0 */
-    uint32_t pole_pairs;  /* n_p >= 1 */
-    float kt_Nm_per_A;    /* torque per A of q current, > 0 */
-    float r_ohm;          /* damping injection r > 0 */
+    float R_ohm;         /* >= 0 */
+    float L_H;           /* > 0 */
+    float psi_Wb;        /* Phi > 0 */
+    uint32_t pole_pairs; /* n_p >= 1 */
+    float kt_Nm_per_A;   /* torque per A of q current, > 0 */
+    float r_ohm;         /* damping injection r > 0 */
 } mc_idapbc_params_t;
 
 typedef struct {
-    float R_minus_r_ohm;  /* R - r */
-    float L_np_over_kt;   /* L n_p / kt, V s / (N m rad) */
-    float np_flux_Wb;     /* n_p Phi, V s/rad */
-    float r_over_kt;      /* r / kt, V / (N m) */
+    float R_minus_r_ohm; /* R - r */
+    float L_np_over_kt;  /* L n_p / kt, V s / (N m rad) */
+    float np_psi_Wb;     /* n_p Phi, V s/rad */
+    float r_over_kt;     /* r / kt, V / (N m) */
 } mc_idapbc_f32_t;
 
 /* Damping giving critically damped poles at w* = 0 (see above):
  * r = 2 sqrt(n_p Phi kt L / J). NaN for non-finite or non-positive
  * arguments. Interrupt context: no (design time). */
-float mc_idapbc_critical_damping_f32(uint32_t pole_pairs, float flux_Wb,
+float mc_idapbc_critical_damping_f32(uint32_t pole_pairs, float psi_Wb,
                                      float kt_Nm_per_A, float L_H,
                                      float J_kgm2);
 

@@ -31,9 +31,9 @@ static inline void mc_park_q31(mc_q31_t alpha, mc_q31_t beta,
 
 /* alpha = d cos - q sin,  beta = d sin + q cos.
  * Interrupt context: yes. */
-static inline void mc_inv_park_q31(mc_q31_t d, mc_q31_t q,
-                                   mc_q31_t sin_theta, mc_q31_t cos_theta,
-                                   mc_q31_t *alpha, mc_q31_t *beta)
+static inline void mc_inv_park_q31(mc_q31_t d, mc_q31_t q, mc_q31_t sin_theta,
+                                   mc_q31_t cos_theta, mc_q31_t *alpha,
+                                   mc_q31_t *beta)
 {
     *alpha = mc_msub2_sat_q31(d, cos_theta, q, sin_theta);
     *beta = mc_mac2_sat_q31(d, sin_theta, q, cos_theta);

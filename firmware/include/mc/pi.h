@@ -60,11 +60,10 @@ void mc_pi_reset_f32(mc_pi_f32_t *pi, float integrator);
 
 /* Change the output limits (may be called every sample). Rejects non-finite
  * limits or out_min >= out_max (state untouched). Interrupt context: yes. */
-mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min,
-                                 float out_max);
+mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min, float out_max);
 
-/* One controller sample; returns the limited output u_k. Interrupt context: yes,
- * bounded time, no division. */
+/* One controller sample; returns the limited output u_k. Interrupt context:
+ * yes, bounded time, no division. */
 static inline float mc_pi_step_f32(mc_pi_f32_t *pi, float error)
 {
     if (!isfinite(error)) {

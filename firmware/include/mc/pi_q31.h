@@ -38,16 +38,16 @@
 #include "mc/status.h"
 
 #define MC_PI_Q31_GUARD_BITS 16U /* integrator: Q31 + 16 fractional bits */
-#define MC_PI_Q31_MAX_SHIFT 14U  /* largest gain exponent */
+#define MC_PI_Q31_MAX_SHIFT  14U /* largest gain exponent */
 
 typedef struct {
-    mc_q31_t kp_frac;      /* kp = kp_frac * 2^kp_shift, Q31 */
+    mc_q31_t kp_frac; /* kp = kp_frac * 2^kp_shift, Q31 */
     uint8_t kp_shift;
-    mc_q31_t ki_ts_frac;   /* ki*Ts = ki_ts_frac * 2^ki_ts_shift, Q31 */
+    mc_q31_t ki_ts_frac; /* ki*Ts = ki_ts_frac * 2^ki_ts_shift, Q31 */
     uint8_t ki_ts_shift;
-    int64_t out_min_q47;   /* lower output limit, Q47 */
-    int64_t out_max_q47;   /* upper output limit, Q47 */
-    int64_t integrator_q47;/* integrator state I, Q47 (Q31 * 2^16) */
+    int64_t out_min_q47;    /* lower output limit, Q47 */
+    int64_t out_max_q47;    /* upper output limit, Q47 */
+    int64_t integrator_q47; /* integrator state I, Q47 (Q31 * 2^16) */
 } mc_pi_q31_t;
 
 /* Set gains and limits, integrator to 0 clamped into the limits.
@@ -72,8 +72,7 @@ mc_status_t mc_pi_set_limits_q31(mc_pi_q31_t *pi, mc_q31_t out_min,
 /* round(x * frac * 2^shift / 2^31) in Q47, shift <= 14: the Q62 product
  * |x * frac| <= 2^62 is moved to Q47 by a right shift of 15 - shift >= 1.
  * Interrupt context: yes. */
-static inline int64_t mc_pi_gain_q47(mc_q31_t x, mc_q31_t frac,
-                                         uint8_t shift)
+static inline int64_t mc_pi_gain_q47(mc_q31_t x, mc_q31_t frac, uint8_t shift)
 {
     const int64_t product_q62 = (int64_t)x * frac;
     return mc_round_shift_q63(product_q62,

@@ -46,21 +46,21 @@
 #include "mc/status.h"
 
 #define MC_PLL_OBS_BANDWIDTH_DEFAULT_RAD_S 40.0f
-#define MC_PLL_OBS_MAX_BANDWIDTH_TS 0.1f
+#define MC_PLL_OBS_MAX_BANDWIDTH_TS        0.1f
 
 typedef struct {
-    float bandwidth_rad_s;  /* w_b > 0, w_b Ts <= MC_PLL_OBS_MAX_BANDWIDTH_TS */
-    uint32_t pole_pairs;    /* n_p >= 1 */
-    float J_kgm2;           /* > 0 */
-    float Ts_s;             /* > 0 */
+    float bandwidth_rad_s; /* w_b > 0, w_b Ts <= MC_PLL_OBS_MAX_BANDWIDTH_TS */
+    uint32_t pole_pairs;   /* n_p >= 1 */
+    float J_kgm2;          /* > 0 */
+    float Ts_s;            /* > 0 */
     mc_estimate_bounds_t bounds;
 } mc_pll_obs_params_t;
 
 typedef struct {
     /* configuration: gains times Ts */
-    float l1_Ts;          /* rad/rad */
-    float l2_Ts;          /* (rad/s)/rad */
-    float l3_Ts;          /* N m/rad */
+    float l1_Ts; /* rad/rad */
+    float l2_Ts; /* (rad/s)/rad */
+    float l3_Ts; /* N m/rad */
     float np_Ts;
     float Ts_over_J;
     mc_estimate_bounds_t bounds;

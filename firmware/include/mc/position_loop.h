@@ -12,8 +12,8 @@
 #include "mc/status.h"
 
 typedef struct {
-    float kp_per_s;           /* > 0 */
-    float omega_max_rad_s;    /* > 0 */
+    float kp_per_s;        /* > 0 */
+    float omega_max_rad_s; /* > 0 */
 } mc_position_loop_f32_t;
 
 /* Validate and store. MC_ERR_PARAM / MC_ERR_NONFINITE on invalid values.

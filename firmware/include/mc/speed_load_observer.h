@@ -78,26 +78,26 @@
 #define MC_SPEED_LOAD_OBS_A2_DEFAULT 6.0f
 
 typedef struct {
-    float a1;              /* > 0 */
-    float a2;              /* > 0 */
-    uint32_t pole_pairs;   /* n_p >= 1 */
-    float J_kgm2;          /* > 0 */
-    float kt_Nm_per_A;     /* torque per A of q current, > 0 */
-    float Ts_s;            /* > 0, Euler-stable with A33 */
+    float a1;                    /* > 0 */
+    float a2;                    /* > 0 */
+    uint32_t pole_pairs;         /* n_p >= 1 */
+    float J_kgm2;                /* > 0 */
+    float kt_Nm_per_A;           /* torque per A of q current, > 0 */
+    float Ts_s;                  /* > 0, Euler-stable with A33 */
     mc_estimate_bounds_t bounds; /* plausibility of the estimates */
 } mc_speed_load_obs_params_t;
 
 typedef struct {
     /* configuration */
     float a1, a2;
-    float np_Ts;          /* n_p Ts, rad per (rad/s) */
-    float Ts_over_J;      /* Ts / J */
+    float np_Ts;     /* n_p Ts, rad per (rad/s) */
+    float Ts_over_J; /* Ts / J */
     float kt_Nm_per_A;
     mc_estimate_bounds_t bounds;
     /* state */
-    float omega_m_rad_s;  /* w_hat */
+    float omega_m_rad_s;    /* w_hat */
     float omega_comp_rad_s; /* rounding carried over to the next w_hat update */
-    float tau_L_Nm;       /* tau_hat */
+    float tau_L_Nm;         /* tau_hat */
     float theta_e_prev_rad; /* e_{k-1}, wrapped */
 } mc_speed_load_obs_f32_t;
 
@@ -130,23 +130,24 @@ mc_status_t mc_speed_load_obs_step_f32(mc_speed_load_obs_f32_t *obs,
                                        float theta_e_rad, float i_q_A);
 
 /* Mechanical speed estimate w_hat, rad/s. Interrupt context: yes. */
-static inline float mc_speed_load_obs_omega_m_f32(
-    const mc_speed_load_obs_f32_t *obs)
+static inline float
+mc_speed_load_obs_omega_m_f32(const mc_speed_load_obs_f32_t *obs)
 {
     return obs->omega_m_rad_s;
 }
 
 /* Load-torque estimate tau_hat, N m. Interrupt context: yes. */
-static inline float mc_speed_load_obs_tau_L_f32(
-    const mc_speed_load_obs_f32_t *obs)
+static inline float
+mc_speed_load_obs_tau_L_f32(const mc_speed_load_obs_f32_t *obs)
 {
     return obs->tau_L_Nm;
 }
 
 /* MC_OK if the estimates are inside the configured bounds, MC_ERR_RANGE
- * otherwise (an implausible, probably diverged, estimate). Interrupt context: yes. */
-static inline mc_status_t mc_speed_load_obs_check_f32(
-    const mc_speed_load_obs_f32_t *obs)
+ * otherwise (an implausible, probably diverged, estimate). Interrupt context:
+ * yes. */
+static inline mc_status_t
+mc_speed_load_obs_check_f32(const mc_speed_load_obs_f32_t *obs)
 {
     return mc_estimate_bounds_check(&obs->bounds, obs->omega_m_rad_s,
                                     obs->tau_L_Nm);

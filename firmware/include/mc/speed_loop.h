@@ -20,18 +20,22 @@
 #include "mc/pi.h"
 #include "mc/status.h"
 
+/* Largest w_s Ts of the speed loop's own sample period (the discrete PI
+ * then stays within a few percent of the continuous design). */
+#define MC_SPEED_LOOP_WTS_MAX 0.2f
+
 typedef struct {
-    float J_kgm2;           /* nominal inertia, > 0 */
-    float B_Nms;            /* nominal viscous friction, >= 0 */
-    float k_t_Nm_per_A;     /* torque constant 1.5 * n_p * psi, > 0 */
-    float bandwidth_rad_s;  /* w_s, > 0 */
-    float i_q_max_A;        /* output limit |i_q_ref| <= i_q_max_A, > 0 */
-    float Ts_s;             /* sample period of the speed loop, > 0 */
+    float J_kgm2;          /* nominal inertia, > 0 */
+    float B_Nm_s_rad;      /* nominal viscous friction, >= 0 */
+    float kt_Nm_per_A;     /* torque constant 1.5 * n_p * psi, > 0 */
+    float bandwidth_rad_s; /* w_s, > 0, w_s Ts <= MC_SPEED_LOOP_WTS_MAX */
+    float i_q_max_A;       /* output limit |i_q_ref| <= i_q_max_A, > 0 */
+    float Ts_s;            /* sample period of the speed loop, > 0 */
 } mc_speed_loop_params_t;
 
 typedef struct {
     mc_pi_f32_t pi;
-    float B_over_kt;        /* friction feed-forward gain, A s/rad */
+    float B_over_kt; /* friction feed-forward gain, A s/rad */
     float i_q_max_A;
 } mc_speed_loop_f32_t;
 
@@ -46,7 +50,7 @@ void mc_speed_loop_reset_f32(mc_speed_loop_f32_t *sl);
 /* One sample: returns the q-axis current reference in A, limited to
  * +-i_q_max_A. Non-finite inputs give a non-finite output, which the
  * application turns into a fault. Interrupt context: yes. */
-float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl,
-                             float omega_m_ref_rad_s, float omega_m_rad_s);
+float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl, float omega_m_ref_rad_s,
+                             float omega_m_rad_s);
 
 #endif /* MC_SPEED_LOOP_H */

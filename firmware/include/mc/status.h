@@ -11,10 +11,10 @@
 
 typedef enum {
     MC_OK = 0,
-    MC_ERR_NONFINITE,   /* an input or result is NaN or +-Inf */
-    MC_ERR_RANGE,       /* an input is outside its documented range */
-    MC_ERR_PARAM,       /* an init/config parameter is invalid */
-    MC_ERR_STATE        /* call not allowed in the current state */
+    MC_ERR_NONFINITE, /* an input or result is NaN or +-Inf */
+    MC_ERR_RANGE,     /* an input is outside its documented range */
+    MC_ERR_PARAM,     /* an init/config parameter is invalid */
+    MC_ERR_STATE      /* call not allowed in the current state */
 } mc_status_t;
 
 #endif /* MC_STATUS_H */

@@ -44,17 +44,14 @@
 
 #include "mc/status.h"
 
-typedef enum {
-    MC_SVPWM_LIMIT_CIRCLE,
-    MC_SVPWM_LIMIT_HEXAGON
-} mc_svpwm_limit_t;
+typedef enum { MC_SVPWM_LIMIT_CIRCLE, MC_SVPWM_LIMIT_HEXAGON } mc_svpwm_limit_t;
 
 typedef struct {
-    float duty[3];     /* phases a, b, c, each in [0, 1] */
-    uint8_t sector;    /* 1..6, see the convention above */
-    bool overmodulated;/* true when the command was reduced */
-    float v_alpha_V;   /* voltage actually applied, alpha axis, V */
-    float v_beta_V;    /* voltage actually applied, beta axis, V */
+    float duty[3];      /* phases a, b, c, each in [0, 1] */
+    uint8_t sector;     /* 1..6, see the convention above */
+    bool overmodulated; /* true when the command was reduced */
+    float v_alpha_V;    /* voltage actually applied, alpha axis, V */
+    float v_beta_V;     /* voltage actually applied, beta axis, V */
 } mc_svpwm_out_f32_t;
 
 /* Compute the duties for one PWM period. Interrupt context: yes. */

@@ -6,8 +6,8 @@
 /* floor(2^62 / 3): v_alpha^2 + v_beta^2 (Q62, integer) > 1/3 exactly iff it
  * exceeds this value. */
 #define SVPWM_CIRCLE_SQ_Q62 ((uint64_t)1537228672809129301U)
-#define SVPWM_ONE_Q31 ((int64_t)1 << 31)
-#define SVPWM_ONE_Q62 ((int64_t)1 << 62)
+#define SVPWM_ONE_Q31       ((int64_t)1 << 31)
+#define SVPWM_ONE_Q62       ((int64_t)1 << 62)
 
 /* round(num / den) for num >= 0 and den > 0 (both callers divide by a
  * magnitude their branch has just shown to exceed 2^30). */
@@ -42,7 +42,7 @@ static void scale_command(mc_q31_t scale, mc_q31_t *alpha, mc_q31_t *beta)
  * sqrt(3)/2 alpha vs beta/2 in Q62, exact up to the constant's rounding. */
 static uint8_t sector_of(mc_q31_t alpha, mc_q31_t beta)
 {
-    static const uint8_t sector_of_code[8] = {1U, 2U, 6U, 1U, 4U, 3U, 5U, 1U};
+    static const uint8_t sector_of_code[8] = { 1U, 2U, 6U, 1U, 4U, 3U, 5U, 1U };
     if (alpha == 0 && beta == 0) {
         return 1U;
     }

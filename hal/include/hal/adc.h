@@ -11,12 +11,12 @@
 #include <stdbool.h>
 
 typedef struct {
-    float i_abc_A[3];  /* phase currents a, b, c in A (positive into the motor),
-                          scaled by the backend's nominal gain; any offset is
-                          left for the firmware to calibrate */
-    float v_dc_V;      /* DC-bus voltage in V */
-    float temp_degC;   /* power-stage temperature in degC, if temp_valid */
-    bool temp_valid;   /* false when the board has no temperature sensor */
+    float i_abc_A[3]; /* phase currents a, b, c in A (positive into the motor),
+                         scaled by the backend's nominal gain; any offset is
+                         left for the firmware to calibrate */
+    float v_dc_V;     /* DC-bus voltage in V */
+    float temp_degC;  /* power-stage temperature in degC, if temp_valid */
+    bool temp_valid;  /* false when the board has no temperature sensor */
 } hal_adc_sample_t;
 
 /* Read the samples converted at this period's PWM centre.

@@ -18,10 +18,10 @@
 #define HAL_CAN_MAX_DLC 8u
 
 typedef struct {
-    uint32_t id;                    /* 11-bit (<= 0x7FF) or 29-bit identifier */
-    bool extended;                  /* true: 29-bit identifier */
-    bool rtr;                       /* remote transmission request */
-    uint8_t dlc;                    /* data length, 0..8 */
+    uint32_t id;   /* 11-bit (<= 0x7FF) or 29-bit identifier */
+    bool extended; /* true: 29-bit identifier */
+    bool rtr;      /* remote transmission request */
+    uint8_t dlc;   /* data length, 0..8 */
     uint8_t data[HAL_CAN_MAX_DLC];
 } hal_can_frame_t;
 

@@ -4,9 +4,19 @@
  * Bound at link time: exactly one backend (hal/host, hal/qemu_m4, a board
  * port) provides these functions in a build.
  *
- * Timing model: the ADC conversion of a period is triggered at the PWM centre
- * and raises the fast ISR; duties written in that ISR are latched into the
- * shadow registers and take effect at the start of the NEXT period.
+ * Timing model: the ADC conversion of a period is triggered at a fixed
+ * point of the carrier (normally its centre of the low-side conduction,
+ * where shunt currents are read) and raises the fast ISR; duties written in
+ * that ISR are latched into the shadow registers at the timer's next update
+ * event and act for one period from there. The backend reports the
+ * resulting sample-to-apply delay d: the voltage the ISR after the sample
+ * at t_k commands acts over [t_k + (d - 1/2) Ts, t_k + (d + 1/2) Ts]:
+ *   d = 1.0  update half a period after the sample (update events at both
+ *            ends of a centre-aligned carrier, or at the opposite one);
+ *   d = 1.5  update a full period after the sample (one update event per
+ *            period, at the sampling point).
+ * The firmware designs its delay compensation and its applied-voltage
+ * history with d (firmware/include/mc/timing.h).
  * Disabling the outputs is immediate (no shadow register): the gate drivers
  * switch all six transistors off within the current period.
  */
@@ -17,15 +27,18 @@
 
 #include "hal/hal_status.h"
 
-/* Configure the carrier for f_pwm_hz (centre-aligned, the period is
- * 1/f_pwm_hz) and leave the outputs disabled.
- * f_pwm_hz: finite, > 0; the backend may reject frequencies it cannot make
- * (HAL_ERR_PARAM). NOT Interrupt context: yes. */
-hal_status_t hal_pwm_init(float f_pwm_hz);
+/* What the backend realised. */
+typedef struct {
+    float period_s;      /* carrier period (a timer rounds to whole
+                            counts), > 0 */
+    float delay_periods; /* sample-to-apply delay d (above), [0.5, 1.5] */
+} hal_pwm_timing_t;
 
-/* PWM period in seconds as configured by hal_pwm_init (0 before init).
- * Interrupt context: yes. */
-float hal_pwm_period_s(void);
+/* Configure the carrier for f_pwm_Hz (centre-aligned), leave the outputs
+ * disabled and report the realised timing in *timing.
+ * f_pwm_Hz: finite, > 0; the backend may reject frequencies it cannot make
+ * (HAL_ERR_PARAM, *timing untouched). Interrupt context: no. */
+hal_status_t hal_pwm_init(float f_pwm_Hz, hal_pwm_timing_t *timing);
 
 /* Write the three duty cycles (phase a, b, c), each the high-side on-time as a
  * fraction of the period in [0, 1]. They take effect at the next period.

@@ -98,8 +98,8 @@ static bool check_finite(const cJSON *item, const char *path, const char *expect
 }
 
 /* Check that item is a finite number in range; path names it in errors. */
-static bool check_number(const cJSON *item, const char *path, jr_range_t range,
-                         scn_error_t *err, double *out)
+static bool check_number(const cJSON *item, const char *path, jr_range_t range, scn_error_t *err,
+                         double *out)
 {
     char expected[96];
     range_text(range, expected, sizeof(expected));
@@ -241,14 +241,13 @@ bool jr_number(jr_object_t *obj, const char *key, jr_range_t range, double *out)
     return number_impl(obj, key, range, true, 0.0, out);
 }
 
-bool jr_number_opt(jr_object_t *obj, const char *key, jr_range_t range, double def,
-                   double *out)
+bool jr_number_opt(jr_object_t *obj, const char *key, jr_range_t range, double def, double *out)
 {
     return number_impl(obj, key, range, false, def, out);
 }
 
-static bool uint_impl(jr_object_t *obj, const char *key, uint64_t lo, uint64_t hi,
-                      bool required, uint64_t def, uint64_t *out)
+static bool uint_impl(jr_object_t *obj, const char *key, uint64_t lo, uint64_t hi, bool required,
+                      uint64_t def, uint64_t *out)
 {
     char expected[96];
     snprintf(expected, sizeof(expected), "whole number in [%llu, %llu]", (unsigned long long)lo,
@@ -380,14 +379,13 @@ static bool enum_impl(jr_object_t *obj, const char *key, const char *const *name
     return false;
 }
 
-bool jr_enum(jr_object_t *obj, const char *key, const char *const *names, size_t n,
-             size_t *index)
+bool jr_enum(jr_object_t *obj, const char *key, const char *const *names, size_t n, size_t *index)
 {
     return enum_impl(obj, key, names, n, true, 0, index);
 }
 
-bool jr_enum_opt(jr_object_t *obj, const char *key, const char *const *names, size_t n,
-                 size_t def, size_t *index)
+bool jr_enum_opt(jr_object_t *obj, const char *key, const char *const *names, size_t n, size_t def,
+                 size_t *index)
 {
     return enum_impl(obj, key, names, n, false, def, index);
 }
@@ -447,8 +445,7 @@ static bool array_impl(jr_object_t *obj, const char *key, size_t min_len, size_t
     return check_array(item, path, min_len, max_len, obj->err, arr);
 }
 
-bool jr_array(jr_object_t *obj, const char *key, size_t min_len, size_t max_len,
-              jr_array_t *arr)
+bool jr_array(jr_object_t *obj, const char *key, size_t min_len, size_t max_len, jr_array_t *arr)
 {
     return array_impl(obj, key, min_len, max_len, true, arr);
 }
@@ -494,8 +491,7 @@ bool jr_array_object(jr_array_t *arr, size_t i, jr_object_t *child)
     return true;
 }
 
-bool jr_array_array(jr_array_t *arr, size_t i, size_t min_len, size_t max_len,
-                    jr_array_t *child)
+bool jr_array_array(jr_array_t *arr, size_t i, size_t min_len, size_t max_len, jr_array_t *child)
 {
     const cJSON *item;
     char path[SCN_PATH_MAX];

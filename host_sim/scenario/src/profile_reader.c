@@ -3,7 +3,7 @@
 
 #include <stdio.h>
 
-#define MAX_TIME_S 1e6
+#define MAX_TIME_S  1e6
 #define MAX_FREQ_HZ 1e6
 
 static bool read_points(jr_object_t *obj, double scale, sim_profile_t *out)
@@ -49,7 +49,7 @@ static bool read_sines(jr_object_t *obj, double scale, sim_profile_t *out)
         sim_profile_sine_t *sine = &out->sines[i];
         if (!jr_array_object(&sines, i, &s) ||
             !jr_number(&s, "amplitude", JR_ANY_FINITE, &sine->amplitude) ||
-            !jr_number(&s, "freq_hz", JR_CLOSED(0.0, MAX_FREQ_HZ), &sine->freq_hz) ||
+            !jr_number(&s, "freq_Hz", JR_CLOSED(0.0, MAX_FREQ_HZ), &sine->freq_Hz) ||
             !jr_number_opt(&s, "phase_rad", JR_ANY_FINITE, 0.0, &sine->phase_rad) ||
             !jr_number_opt(&s, "t_start_s", JR_CLOSED(0.0, MAX_TIME_S), 0.0, &sine->t_start_s) ||
             !jr_finish(&s)) {
@@ -91,7 +91,7 @@ static bool read_noise(jr_object_t *obj, double scale, sim_profile_t *out)
     }
     sim_profile_noise_t *n = &out->noise;
     if (!jr_number(&noise, "rms", JR_CLOSED(0.0, 1e12), &n->rms) ||
-        !jr_number(&noise, "cutoff_hz", JR_POSITIVE(MAX_FREQ_HZ), &n->cutoff_hz) ||
+        !jr_number(&noise, "cutoff_Hz", JR_POSITIVE(MAX_FREQ_HZ), &n->cutoff_Hz) ||
         !jr_uint_opt(&noise, "seed", 0, UINT32_MAX, 1, &n->seed) || !jr_finish(&noise)) {
         return false;
     }

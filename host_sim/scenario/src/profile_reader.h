@@ -5,9 +5,9 @@
  *   {
  *     "points": [[t_s, value], ...],   piecewise linear, times non-decreasing
  *                                      (two points at one time = a step)
- *     "sines":  [{"amplitude": a, "freq_hz": f, "phase_rad": p, "t_start_s": t0}],
+ *     "sines":  [{"amplitude": a, "freq_Hz": f, "phase_rad": p, "t_start_s": t0}],
  *     "poly":   {"coeffs": [c0, c1, ...], "t_start_s": t0},
- *     "noise":  {"rms": r, "cutoff_hz": fc, "seed": s}
+ *     "noise":  {"rms": r, "cutoff_Hz": fc, "seed": s}
  *   }
  * every part optional (the profile is their sum). Values are in the unit the
  * key names; scale converts them to SI (e.g. 2 pi / 60 for "speed_rpm").

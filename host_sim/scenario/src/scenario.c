@@ -8,33 +8,51 @@
 #include "sim/scenario_document.h"
 #include "sim/scenario_extends.h"
 
+/* Format 2 only; a format-1 file gets a message saying what changed. */
+static bool read_format_version(jr_object_t *root)
+{
+    const cJSON *v = jr_peek(root, "format_version");
+    const bool old = (v != NULL && cJSON_IsNumber(v) && v->valuedouble == 1.0) ||
+                     (v == NULL && jr_peek(root, "controller") != NULL);
+    if (old) {
+        jr_fail(root, "format_version", SCN_ERR_INVALID,
+                "format_version 2 (format 1 is no longer read: its \"controller\" section is "
+                "now \"firmware\" with the keys grouped by block, e.g. "
+                "controller.current_bandwidth_rad_s -> firmware.current.bandwidth_rad_s, "
+                "controller.type -> firmware.controller, controller.angle_source -> "
+                "firmware.estimator; profile keys freq_hz, cutoff_hz -> freq_Hz, cutoff_Hz; "
+                "see host_sim/scenarios/README.md, \"Changes from format 1\")",
+                v != NULL ? "format_version 1" : "a \"controller\" section");
+        return false;
+    }
+    uint64_t version;
+    return jr_uint(root, "format_version", SCENARIO_FORMAT_VERSION, SCENARIO_FORMAT_VERSION,
+                   &version);
+}
+
 bool scenario_from_json(const cJSON *root_json, scenario_t *out, scn_error_t *err)
 {
     jr_object_t root;
     jr_object_t output;
     char description[SCENARIO_DESCRIPTION_MAX];
-    uint64_t version;
     memset(out, 0, sizeof(*out));
     plant_config_default(&out->plant);
-    mc_config_init_default(&out->controller);
-    const bool ok = jr_root(&root, root_json, err) &&
-                    jr_uint_opt(&root, "format_version", 1, 1, 1, &version) &&
-                    jr_string_opt(&root, "name", "", out->name, sizeof(out->name)) &&
-                    jr_string_opt(&root, "description", "", description, sizeof(description)) &&
-                    jr_number(&root, "duration_s", JR_POSITIVE(SCENARIO_MAX_DURATION_S),
-                              &out->duration_s) &&
-                    jr_number_opt(&root, "time_offset_s",
-                                  JR_CLOSED(0.0, SCENARIO_MAX_DURATION_S), 0.0,
-                                  &out->time_offset_s) &&
-                    scenario_read_plant(&root, &out->plant) &&
-                    scenario_read_controller(&root, &out->plant, &out->controller) &&
-                    scenario_read_reference(&root, &out->reference) &&
-                    scenario_read_injections(&root, out->injections, &out->n_injections) &&
-                    scenario_read_metrics(&root, out->duration_s, &out->metrics) &&
-                    jr_object_opt(&root, "output", &output) &&
-                    jr_u32_opt(&output, "trace_decimation", 1, 1000000, 20,
-                               &out->trace_decimation) &&
-                    jr_finish(&output) && jr_finish(&root);
+    mc_config_init_default(&out->firmware);
+    const bool ok =
+        jr_root(&root, root_json, err) && read_format_version(&root) &&
+        jr_string_opt(&root, "name", "", out->name, sizeof(out->name)) &&
+        jr_string_opt(&root, "description", "", description, sizeof(description)) &&
+        jr_number(&root, "duration_s", JR_POSITIVE(SCENARIO_MAX_DURATION_S), &out->duration_s) &&
+        jr_number_opt(&root, "time_offset_s", JR_CLOSED(0.0, SCENARIO_MAX_DURATION_S), 0.0,
+                      &out->time_offset_s) &&
+        scenario_read_plant(&root, &out->plant) &&
+        scenario_read_firmware(&root, &out->plant, &out->firmware) &&
+        scenario_read_reference(&root, &out->reference) &&
+        scenario_read_injections(&root, out->injections, &out->n_injections) &&
+        scenario_read_metrics(&root, out->duration_s, &out->metrics) &&
+        jr_object_opt(&root, "output", &output) &&
+        jr_u32_opt(&output, "trace_decimation", 1, 1000000, 20, &out->trace_decimation) &&
+        jr_finish(&output) && jr_finish(&root);
     if (ok) {
         scenario_apply_time_offset(out);
     }

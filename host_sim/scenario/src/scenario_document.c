@@ -8,7 +8,7 @@
 #include <string.h>
 
 #define MAX_FILE_BYTES (16L * 1024L * 1024L)
-#define SNIPPET_CHARS 24
+#define SNIPPET_CHARS  24
 
 /* Line/column (1-based) of pos in text, and the text found there. */
 static void syntax_error(const char *text, const char *pos, scn_error_t *err)

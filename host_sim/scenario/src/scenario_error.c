@@ -15,8 +15,8 @@ void scenario_error_clear(scn_error_t *err)
     err->code = SCN_OK;
 }
 
-void scenario_error_set(scn_error_t *err, scn_status_t code, const char *path,
-                        const char *expected, const char *found)
+void scenario_error_set(scn_error_t *err, scn_status_t code, const char *path, const char *expected,
+                        const char *found)
 {
     if (err->code != SCN_OK) {
         return;

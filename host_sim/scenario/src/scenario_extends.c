@@ -11,7 +11,7 @@
 #include "sim/scenario.h"
 #include "sim/scenario_document.h"
 
-#define FILE_PATH_MAX 512
+#define FILE_PATH_MAX   512
 #define MAX_SET_ENTRIES 1000
 
 /* One file of the chain being resolved: its path and, when it could be
@@ -76,8 +76,8 @@ static void chain_text(const chain_t *chain, char *buf, size_t size)
     size_t used = 0;
     buf[0] = '\0';
     for (size_t i = 0; i < chain->n && used < size; i++) {
-        int n = snprintf(buf + used, size - used, "%s%s", i > 0 ? " -> " : "",
-                         chain->links[i].file);
+        int n =
+            snprintf(buf + used, size - used, "%s%s", i > 0 ? " -> " : "", chain->links[i].file);
         used += n > 0 ? (size_t)n : 0;
     }
 }
@@ -90,8 +90,7 @@ static bool read_extending(const cJSON *doc, extending_t *x, scn_error_t *err)
               jr_string_opt(&root, "extends", "", x->extends, sizeof(x->extends)) &&
               jr_array_opt(&root, "set", 0, MAX_SET_ENTRIES, &x->set) &&
               jr_string_opt(&root, "name", "", x->name, sizeof(x->name)) &&
-              jr_string_opt(&root, "description", "", x->description,
-                            sizeof(x->description)) &&
+              jr_string_opt(&root, "description", "", x->description, sizeof(x->description)) &&
               jr_finish(&root);
     if (ok && x->extends[0] == '\0') {
         jr_fail(&root, "extends", SCN_ERR_INVALID, "the path of the base scenario file",

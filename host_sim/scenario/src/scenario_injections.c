@@ -33,14 +33,11 @@ static bool read_phase(jr_object_t *o, sim_injection_t *inj)
 static bool read_kind_keys(jr_object_t *o, sim_injection_t *inj)
 {
     switch (inj->kind) {
-    case SIM_INJECT_CURRENT_NAN:
-        return read_phase(o, inj);
+    case SIM_INJECT_CURRENT_NAN: return read_phase(o, inj);
     case SIM_INJECT_CURRENT_OFFSET:
         return read_phase(o, inj) && jr_number(o, "offset_A", JR_CLOSED(-1e5, 1e5), &inj->value);
-    case SIM_INJECT_VDC_MEASURED:
-        return jr_number(o, "v_dc_V", JR_CLOSED(-1e5, 1e5), &inj->value);
-    case SIM_INJECT_FAULT_INPUT:
-        return true;
+    case SIM_INJECT_VDC_MEASURED: return jr_number(o, "v_dc_V", JR_CLOSED(-1e5, 1e5), &inj->value);
+    case SIM_INJECT_FAULT_INPUT: return true;
     }
     return false;
 }

@@ -9,8 +9,7 @@
 #define TIME_RANGE JR_CLOSED(0.0, SCENARIO_MAX_DURATION_S)
 
 /* Optional [t0_s, t1_s] with 0 <= t0 < t1. */
-static bool read_window(jr_object_t *o, const char *key, bool *present, double *t0_s,
-                        double *t1_s)
+static bool read_window(jr_object_t *o, const char *key, bool *present, double *t0_s, double *t1_s)
 {
     jr_array_t arr;
     if (!jr_array_opt(o, key, 2, 2, &arr)) {
@@ -22,8 +21,7 @@ static bool read_window(jr_object_t *o, const char *key, bool *present, double *
     }
     double t0;
     double t1;
-    if (!jr_array_number(&arr, 0, TIME_RANGE, &t0) ||
-        !jr_array_number(&arr, 1, TIME_RANGE, &t1)) {
+    if (!jr_array_number(&arr, 0, TIME_RANGE, &t0) || !jr_array_number(&arr, 1, TIME_RANGE, &t1)) {
         return false;
     }
     if (!(t1 > t0)) {
@@ -108,8 +106,7 @@ static bool read_step(jr_object_t *o, double duration_s, scenario_metrics_t *m)
     if (!jr_number(&step, "t_s", TIME_RANGE, &m->step_t_s) ||
         !jr_number(&step, "initial", JR_ANY_FINITE, &m->step_initial) ||
         !jr_number(&step, "final", JR_ANY_FINITE, &m->step_final) ||
-        !jr_number_opt(&step, "t_end_s", TIME_RANGE, duration_s,
-                       &m->step_end_s) ||
+        !jr_number_opt(&step, "t_end_s", TIME_RANGE, duration_s, &m->step_end_s) ||
         !jr_number_opt(&step, "band_percent", JR_POSITIVE(50.0), 2.0, &band_percent) ||
         !jr_finish(&step)) {
         return false;

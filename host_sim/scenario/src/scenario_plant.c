@@ -3,6 +3,9 @@
  * values of plant_config_default(). */
 #include <stdio.h>
 
+#include "mc/encoder_tracker.h"
+#include "mc/motor.h"
+#include "mc/timing.h"
 #include "profile_reader.h"
 #include "scenario_sections.h"
 
@@ -25,12 +28,11 @@ static bool read_motor(jr_object_t *root, plant_motor_params_t *m)
 {
     jr_object_t o;
     uint64_t pole_pairs;
-    bool ok = jr_object(root, "motor", &o) &&
-              jr_number(&o, "R_ohm", JR_POSITIVE(1e3), &m->R_ohm) &&
+    bool ok = jr_object(root, "motor", &o) && jr_number(&o, "R_ohm", JR_POSITIVE(1e3), &m->R_ohm) &&
               jr_number(&o, "Ld_H", JR_POSITIVE(10.0), &m->Ld_H) &&
               jr_number_opt(&o, "Lq_H", JR_POSITIVE(10.0), m->Ld_H, &m->Lq_H) &&
               jr_number(&o, "psi_Wb", JR_POSITIVE(10.0), &m->psi_Wb) &&
-              jr_uint(&o, "pole_pairs", 1, 64, &pole_pairs) &&
+              jr_uint(&o, "pole_pairs", 1, MC_MOTOR_POLE_PAIRS_MAX, &pole_pairs) &&
               jr_number(&o, "J_kgm2", JR_POSITIVE(1e3), &m->J_kgm2) &&
               jr_number_opt(&o, "B_Nm_s_rad", JR_CLOSED(0.0, 1e3), 0.0, &m->B_Nm_s_rad) &&
               jr_finish(&o);
@@ -40,14 +42,27 @@ static bool read_motor(jr_object_t *root, plant_motor_params_t *m)
     return ok;
 }
 
+/* When the inverter latches new duties (plant_duty_update_t). */
+static bool read_duty_update(jr_object_t *o, plant_duty_update_t *update)
+{
+    static const char *const names[] = { "next_period", "half_period" };
+    size_t index;
+    if (!jr_enum_opt(o, "duty_update", names, 2, (size_t)*update, &index)) {
+        return false;
+    }
+    *update = (plant_duty_update_t)index;
+    return true;
+}
+
 static bool read_inverter(jr_object_t *root, plant_inverter_params_t *inv)
 {
     jr_object_t o;
     return jr_object_opt(root, "inverter", &o) &&
-           jr_number_opt(&o, "f_pwm_Hz", JR_CLOSED(1e3, 1e5), inv->f_pwm_Hz, &inv->f_pwm_Hz) &&
+           jr_number_opt(&o, "f_pwm_Hz", JR_CLOSED(MC_TIMING_F_PWM_MIN_HZ, MC_TIMING_F_PWM_MAX_HZ),
+                         inv->f_pwm_Hz, &inv->f_pwm_Hz) &&
+           read_duty_update(&o, &inv->duty_update) &&
            profile_read(&o, "v_dc_V", false, 1.0, &inv->v_dc_V) &&
-           jr_number_opt(&o, "dead_time_s", JR_CLOSED(0.0, 1e-4), inv->t_dead_s,
-                         &inv->t_dead_s) &&
+           jr_number_opt(&o, "dead_time_s", JR_CLOSED(0.0, 1e-4), inv->t_dead_s, &inv->t_dead_s) &&
            jr_number_opt(&o, "device_drop_V", JR_CLOSED(0.0, 100.0), inv->v_device_drop_V,
                          &inv->v_device_drop_V) &&
            jr_number_opt(&o, "dead_time_current_band_A", JR_CLOSED(0.0, 1e3),
@@ -61,11 +76,9 @@ static bool read_current_sensor(jr_object_t *sensors, plant_current_sensor_t *c)
     return jr_object_opt(sensors, "current", &o) &&
            read_per_phase(&o, "gain", JR_POSITIVE(10.0), c->gain) &&
            read_per_phase(&o, "offset_A", JR_CLOSED(-1e3, 1e3), c->offset_A) &&
-           jr_number_opt(&o, "noise_rms_A", JR_CLOSED(0.0, 1e3), c->noise_rms_A,
-                         &c->noise_rms_A) &&
+           jr_number_opt(&o, "noise_rms_A", JR_CLOSED(0.0, 1e3), c->noise_rms_A, &c->noise_rms_A) &&
            jr_u32_opt(&o, "adc_bits", 0, 24, c->adc_bits, &c->adc_bits) &&
-           jr_number_opt(&o, "full_scale_A", JR_POSITIVE(1e5), c->full_scale_A,
-                         &c->full_scale_A) &&
+           jr_number_opt(&o, "full_scale_A", JR_POSITIVE(1e5), c->full_scale_A, &c->full_scale_A) &&
            jr_finish(&o);
 }
 
@@ -75,11 +88,9 @@ static bool read_vdc_sensor(jr_object_t *sensors, plant_vdc_sensor_t *v)
     return jr_object_opt(sensors, "vdc", &o) &&
            jr_number_opt(&o, "gain", JR_POSITIVE(10.0), v->gain, &v->gain) &&
            jr_number_opt(&o, "offset_V", JR_CLOSED(-1e4, 1e4), v->offset_V, &v->offset_V) &&
-           jr_number_opt(&o, "noise_rms_V", JR_CLOSED(0.0, 1e4), v->noise_rms_V,
-                         &v->noise_rms_V) &&
+           jr_number_opt(&o, "noise_rms_V", JR_CLOSED(0.0, 1e4), v->noise_rms_V, &v->noise_rms_V) &&
            jr_u32_opt(&o, "adc_bits", 0, 24, v->adc_bits, &v->adc_bits) &&
-           jr_number_opt(&o, "full_scale_V", JR_POSITIVE(1e5), v->full_scale_V,
-                         &v->full_scale_V) &&
+           jr_number_opt(&o, "full_scale_V", JR_POSITIVE(1e5), v->full_scale_V, &v->full_scale_V) &&
            jr_finish(&o);
 }
 
@@ -89,11 +100,12 @@ static bool read_sensors(jr_object_t *root, plant_sensor_params_t *s)
     jr_object_t enc;
     return jr_object_opt(root, "sensors", &o) && read_current_sensor(&o, &s->current) &&
            read_vdc_sensor(&o, &s->vdc) && jr_object_opt(&o, "encoder", &enc) &&
-           jr_u32_opt(&enc, "lines", 0, 10000000, s->encoder.lines, &s->encoder.lines) &&
+           jr_u32_opt(&enc, "lines", 0, MC_ENCODER_CPR_MAX / 4u, s->encoder.lines,
+                      &s->encoder.lines) &&
            jr_number_opt(&enc, "offset_rad", JR_CLOSED(-1e3, 1e3), s->encoder.offset_rad,
                          &s->encoder.offset_rad) &&
-           jr_finish(&enc) &&
-           jr_uint_opt(&o, "seed", 0, UINT32_MAX, s->seed, &s->seed) && jr_finish(&o);
+           jr_finish(&enc) && jr_uint_opt(&o, "seed", 0, UINT32_MAX, s->seed, &s->seed) &&
+           jr_finish(&o);
 }
 
 static bool read_cogging(jr_object_t *dist, plant_cogging_t *cog)
@@ -183,7 +195,7 @@ static bool read_initial_and_solver(jr_object_t *root, plant_config_t *plant)
            jr_bool_opt(&init, "locked_rotor", plant->locked_rotor, &plant->locked_rotor) &&
            jr_finish(&init) && jr_object_opt(root, "solver", &solver) &&
            jr_u32_opt(&solver, "substeps_per_period", 1, 10000, plant->substeps_per_period,
-                           &plant->substeps_per_period) &&
+                      &plant->substeps_per_period) &&
            jr_finish(&solver);
 }
 
@@ -192,6 +204,16 @@ bool scenario_read_plant(jr_object_t *root, plant_config_t *plant)
     if (!(read_motor(root, &plant->motor) && read_inverter(root, &plant->inverter) &&
           read_sensors(root, &plant->sensors) && read_disturbances(root, plant) &&
           read_initial_and_solver(root, plant))) {
+        return false;
+    }
+    if (plant->inverter.duty_update == PLANT_DUTY_UPDATE_HALF_PERIOD &&
+        plant->substeps_per_period % 2u != 0u) {
+        char found[32];
+        snprintf(found, sizeof(found), "%u", (unsigned)plant->substeps_per_period);
+        jr_fail(root, "solver.substeps_per_period", SCN_ERR_INVALID,
+                "an even count with inverter.duty_update \"half_period\" (the duties change "
+                "at the middle of the period)",
+                found);
         return false;
     }
     const char *msg = "";

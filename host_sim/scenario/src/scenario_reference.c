@@ -9,8 +9,7 @@ static const char *const mode_names[] = { "current", "speed", "position" };
 
 const char *scenario_mode_name(mc_mode_t mode)
 {
-    return (size_t)mode < sizeof(mode_names) / sizeof(mode_names[0]) ? mode_names[mode]
-                                                                      : "unknown";
+    return (size_t)mode < sizeof(mode_names) / sizeof(mode_names[0]) ? mode_names[mode] : "unknown";
 }
 
 static bool read_speed_reference(jr_object_t *o, scenario_reference_t *ref)
@@ -18,8 +17,7 @@ static bool read_speed_reference(jr_object_t *o, scenario_reference_t *ref)
     bool has_rpm = jr_peek(o, "speed_rpm") != NULL;
     bool has_rad_s = jr_peek(o, "speed_rad_s") != NULL;
     if (has_rpm && has_rad_s) {
-        jr_fail(o, "speed_rad_s", SCN_ERR_INVALID, "exactly one of speed_rpm, speed_rad_s",
-                "both");
+        jr_fail(o, "speed_rad_s", SCN_ERR_INVALID, "exactly one of speed_rpm, speed_rad_s", "both");
         return false;
     }
     if (has_rad_s) {
@@ -45,9 +43,7 @@ bool scenario_read_reference(jr_object_t *root, scenario_reference_t *ref)
     ref->mode = (mc_mode_t)mode;
     bool ok = false;
     switch (ref->mode) {
-    case MC_MODE_SPEED:
-        ok = read_speed_reference(&o, ref);
-        break;
+    case MC_MODE_SPEED: ok = read_speed_reference(&o, ref); break;
     case MC_MODE_POSITION:
         ref->display_unit = "rad";
         ref->display_per_si = 1.0;

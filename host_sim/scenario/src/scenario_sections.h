@@ -16,9 +16,10 @@
 /* motor, inverter, sensors, disturbances, initial, solver -> plant config. */
 bool scenario_read_plant(jr_object_t *root, plant_config_t *plant);
 
-/* controller -> firmware config; nominal motor values and timing from plant
- * (the controller believes the nominal motor; mismatch stays in the plant). */
-bool scenario_read_controller(jr_object_t *root, const plant_config_t *plant, mc_config_t *cfg);
+/* firmware -> firmware config; nominal motor values, PWM rate and encoder
+ * resolution from the plant (the controller believes the nominal motor;
+ * mismatch stays in the plant). */
+bool scenario_read_firmware(jr_object_t *root, const plant_config_t *plant, mc_config_t *cfg);
 
 /* reference -> mode and profile (SI). */
 bool scenario_read_reference(jr_object_t *root, scenario_reference_t *ref);

@@ -37,11 +37,11 @@
 
 typedef enum {
     SIM_METRICS_OK = 0,
-    SIM_METRICS_ERR_ARGUMENT,    /* NULL array, n == 0, bad window/band, non-finite
-                                    argument or time not strictly increasing */
-    SIM_METRICS_ERR_EMPTY,       /* no sample inside the requested window */
-    SIM_METRICS_ERR_ZERO_STEP,   /* step amplitude is zero (or denominator is zero) */
-    SIM_METRICS_ERR_NOT_REACHED  /* the response never reaches the level/band */
+    SIM_METRICS_ERR_ARGUMENT,   /* NULL array, n == 0, bad window/band, non-finite
+                                   argument or time not strictly increasing */
+    SIM_METRICS_ERR_EMPTY,      /* no sample inside the requested window */
+    SIM_METRICS_ERR_ZERO_STEP,  /* step amplitude is zero (or denominator is zero) */
+    SIM_METRICS_ERR_NOT_REACHED /* the response never reaches the level/band */
 } sim_metrics_status_t;
 
 /* A sampled signal: n samples of t[] (s) and y[]. */
@@ -84,14 +84,14 @@ sim_metrics_status_t sim_metrics_fluctuation(const sim_signal_t *sig, double t0_
                                              double *fluctuation, double *fluctuation_rate_percent);
 
 /* RMS of (y - ref) over [t0_s, t1_s]. */
-sim_metrics_status_t sim_metrics_rms_error(const sim_signal_t *sig, const double *ref,
-                                           double t0_s, double t1_s, double *rms_error);
+sim_metrics_status_t sim_metrics_rms_error(const sim_signal_t *sig, const double *ref, double t0_s,
+                                           double t1_s, double *rms_error);
 
 /* Largest |y - ref| in [t_step_s, t_step_s + window_s]; *dip_time_s (may be NULL)
  * receives the time of that sample. */
 sim_metrics_status_t sim_metrics_max_dip(const sim_signal_t *sig, const double *ref,
-                                         double t_step_s, double window_s,
-                                         double *max_dip, double *dip_time_s);
+                                         double t_step_s, double window_s, double *max_dip,
+                                         double *dip_time_s);
 
 /* Largest |y| over [t0_s, t1_s]. */
 sim_metrics_status_t sim_metrics_peak_abs(const sim_signal_t *sig, double t0_s, double t1_s,

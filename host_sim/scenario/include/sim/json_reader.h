@@ -30,15 +30,15 @@
 #define JR_MAX_KEYS 64 /* keys a reader may read from one object */
 
 typedef struct {
-    const cJSON *json;            /* the object, NULL when an optional one is absent */
-    char path[SCN_PATH_MAX];      /* "" for the root */
+    const cJSON *json;       /* the object, NULL when an optional one is absent */
+    char path[SCN_PATH_MAX]; /* "" for the root */
     scn_error_t *err;
     const char *known[JR_MAX_KEYS];
     size_t n_known;
 } jr_object_t;
 
 typedef struct {
-    const cJSON *json;            /* NULL when an optional array is absent */
+    const cJSON *json; /* NULL when an optional array is absent */
     char path[SCN_PATH_MAX];
     scn_error_t *err;
     size_t size;
@@ -53,8 +53,8 @@ typedef struct {
 } jr_range_t;
 
 #define JR_CLOSED(lo, hi) ((jr_range_t){ (lo), (hi), false, false })
-#define JR_POSITIVE(hi) ((jr_range_t){ 0.0, (hi), true, false }) /* (0, hi] */
-#define JR_ANY_FINITE ((jr_range_t){ -1e300, 1e300, false, false })
+#define JR_POSITIVE(hi)   ((jr_range_t){ 0.0, (hi), true, false }) /* (0, hi] */
+#define JR_ANY_FINITE     ((jr_range_t){ -1e300, 1e300, false, false })
 
 /* The root must be an object. */
 bool jr_root(jr_object_t *root, const cJSON *json, scn_error_t *err);
@@ -71,8 +71,7 @@ bool jr_object_opt(jr_object_t *obj, const char *key, jr_object_t *child);
 
 /* Numbers (finite, within range). */
 bool jr_number(jr_object_t *obj, const char *key, jr_range_t range, double *out);
-bool jr_number_opt(jr_object_t *obj, const char *key, jr_range_t range, double def,
-                   double *out);
+bool jr_number_opt(jr_object_t *obj, const char *key, jr_range_t range, double def, double *out);
 
 /* Whole numbers in [lo, hi] (|values| up to 2^53). */
 bool jr_uint(jr_object_t *obj, const char *key, uint64_t lo, uint64_t hi, uint64_t *out);
@@ -89,22 +88,19 @@ bool jr_string_opt(jr_object_t *obj, const char *key, const char *def, char *buf
 bool jr_bool_opt(jr_object_t *obj, const char *key, bool def, bool *out);
 
 /* A string that must be one of names[0..n-1]; *index receives its position. */
-bool jr_enum(jr_object_t *obj, const char *key, const char *const *names, size_t n,
-             size_t *index);
-bool jr_enum_opt(jr_object_t *obj, const char *key, const char *const *names, size_t n,
-                 size_t def, size_t *index);
+bool jr_enum(jr_object_t *obj, const char *key, const char *const *names, size_t n, size_t *index);
+bool jr_enum_opt(jr_object_t *obj, const char *key, const char *const *names, size_t n, size_t def,
+                 size_t *index);
 
 /* Arrays with min_len <= size <= max_len; an absent optional array has size 0. */
-bool jr_array(jr_object_t *obj, const char *key, size_t min_len, size_t max_len,
-              jr_array_t *arr);
+bool jr_array(jr_object_t *obj, const char *key, size_t min_len, size_t max_len, jr_array_t *arr);
 bool jr_array_opt(jr_object_t *obj, const char *key, size_t min_len, size_t max_len,
                   jr_array_t *arr);
 
 /* Elements of an array, with paths "key[i]". */
 bool jr_array_number(jr_array_t *arr, size_t i, jr_range_t range, double *out);
 bool jr_array_object(jr_array_t *arr, size_t i, jr_object_t *child);
-bool jr_array_array(jr_array_t *arr, size_t i, size_t min_len, size_t max_len,
-                    jr_array_t *child);
+bool jr_array_array(jr_array_t *arr, size_t i, size_t min_len, size_t max_len, jr_array_t *child);
 
 /* Record an error at obj.path + "." + key (key may carry an index,
  * "points[3]"): a rule across keys failed (SCN_ERR_INVALID) or a value has

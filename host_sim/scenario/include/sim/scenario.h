@@ -1,5 +1,5 @@
 /*
- * A validated simulation scenario: plant configuration, controller
+ * A validated simulation scenario: plant configuration, firmware
  * configuration, reference, fault injections, metric windows and output
  * options, read from a
  * JSON document (format: host_sim/scenarios/README.md).
@@ -20,27 +20,28 @@
 #include "mc/app.h"
 #include "plant.h"
 #include "profile.h"
-#include "sim_engine.h"
 #include "sim/scenario_error.h"
+#include "sim_engine.h"
 
-#define SCENARIO_NAME_MAX 64
+#define SCENARIO_FORMAT_VERSION  2
+#define SCENARIO_NAME_MAX        64
 #define SCENARIO_DESCRIPTION_MAX 1024
-#define SCENARIO_MAX_DURATION_S 36000.0
-#define SCENARIO_MAX_LOAD_STEPS 8
-#define SCENARIO_MAX_WINDOWS 8
+#define SCENARIO_MAX_DURATION_S  36000.0
+#define SCENARIO_MAX_LOAD_STEPS  8
+#define SCENARIO_MAX_WINDOWS     8
 #define SCENARIO_WINDOW_NAME_MAX 32
 
 typedef struct {
     mc_mode_t mode;
-    sim_profile_t value;        /* omega_m_ref [rad/s], theta_m_ref [rad] or i_q_ref [A] */
-    sim_profile_t i_d_A;        /* MC_MODE_CURRENT: d-axis reference; else 0 */
-    const char *display_unit;   /* "rpm", "rad_s", "rad" or "A" */
-    double display_per_si;      /* display value = SI value * display_per_si */
+    sim_profile_t value;      /* omega_m_ref [rad/s], theta_m_ref [rad] or i_q_ref [A] */
+    sim_profile_t i_d_A;      /* MC_MODE_CURRENT: d-axis reference; else 0 */
+    const char *display_unit; /* "rpm", "rad_s", "rad" or "A" */
+    double display_per_si;    /* display value = SI value * display_per_si */
 } scenario_reference_t;
 
 /* A named window of the windowed metrics (metrics.windows). */
 typedef struct {
-    char name[SCENARIO_WINDOW_NAME_MAX];   /* [A-Za-z0-9_]+, unique */
+    char name[SCENARIO_WINDOW_NAME_MAX]; /* [A-Za-z0-9_]+, unique */
     double t0_s, t1_s;
 } scenario_window_t;
 
@@ -52,10 +53,10 @@ typedef struct {
 typedef struct {
     bool has_step;
     double step_t_s;
-    double step_end_s;          /* step metrics use the samples up to here */
+    double step_end_s; /* step metrics use the samples up to here */
     double step_initial;
     double step_final;
-    double settling_band;       /* fraction of the step (0.02 = 2 %) */
+    double settling_band; /* fraction of the step (0.02 = 2 %) */
     bool has_steady_window;
     double steady_t0_s, steady_t1_s;
     double tracking_t0_s, tracking_t1_s;
@@ -68,19 +69,24 @@ typedef struct {
 
 typedef struct {
     char name[SCENARIO_NAME_MAX];
-    double duration_s;          /* simulated time, offset included */
-    double time_offset_s;       /* simulated t = profile time + offset: the
-                                   reference, the load torque and the metric
-                                   windows are shifted by it (already applied
-                                   to the structs below) */
+    double duration_s;    /* simulated time, offset included */
+    double time_offset_s; /* simulated t = profile time + offset: the
+                             reference, the load torque and the metric
+                             windows are shifted by it (already applied
+                             to the structs below) */
     plant_config_t plant;
-    mc_config_t controller;
+    mc_config_t firmware; /* the drive's configuration */
     scenario_reference_t reference;
     scenario_metrics_t metrics;
     sim_injection_t injections[SIM_ENGINE_MAX_INJECTIONS];
     size_t n_injections;
-    uint32_t trace_decimation;  /* one CSV row every N PWM periods */
+    uint32_t trace_decimation; /* one CSV row every N PWM periods */
 } scenario_t;
+
+/* True for a firmware field the bench takes from the plant sections (the
+ * nominal motor, timing.f_pwm_Hz, encoder.counts_per_rev): not a key of the
+ * scenario's "firmware" section. block is a mc_param_block_t name. */
+bool scenario_firmware_from_plant(const char *block, const char *field);
 
 /* "current", "speed" or "position": the reference.mode names. */
 const char *scenario_mode_name(mc_mode_t mode);

@@ -38,12 +38,12 @@ typedef enum {
 
 typedef struct {
     scn_status_t code;
-    char file[256];               /* scenario file name ("" if from a string) */
-    char path[SCN_PATH_MAX];      /* key path, e.g. "motor.R_ohm", "load.points[2]" */
-    char expected[SCN_TEXT_MAX];  /* e.g. "number in (0, 1000]" */
-    char found[SCN_TEXT_MAX];     /* e.g. "string \"abc\"", "-1", "inf" */
-    int line;                     /* 1-based, SCN_ERR_SYNTAX only (else 0) */
-    int column;                   /* 1-based, SCN_ERR_SYNTAX only (else 0) */
+    char file[256];              /* scenario file name ("" if from a string) */
+    char path[SCN_PATH_MAX];     /* key path, e.g. "motor.R_ohm", "load.points[2]" */
+    char expected[SCN_TEXT_MAX]; /* e.g. "number in (0, 1000]" */
+    char found[SCN_TEXT_MAX];    /* e.g. "string \"abc\"", "-1", "inf" */
+    int line;                    /* 1-based, SCN_ERR_SYNTAX only (else 0) */
+    int column;                  /* 1-based, SCN_ERR_SYNTAX only (else 0) */
 } scn_error_t;
 
 /* Set code OK and clear every text field. */
@@ -51,8 +51,8 @@ void scenario_error_clear(scn_error_t *err);
 
 /* Record an error unless one is already recorded (the first error wins).
  * path/expected/found may be NULL. */
-void scenario_error_set(scn_error_t *err, scn_status_t code, const char *path,
-                        const char *expected, const char *found);
+void scenario_error_set(scn_error_t *err, scn_status_t code, const char *path, const char *expected,
+                        const char *found);
 
 /* Name the source file of what follows (NULL: ""); kept by later errors. */
 void scenario_error_set_file(scn_error_t *err, const char *file);

@@ -1,0 +1,80 @@
+/* Designing every block of the application from a configuration and a
+ * timing record (app_internal.h): used by mc_app_init and, on a scratch
+ * instance, by mc_config_validate. No HAL call here, so a configuration
+ * can be validated without a HAL backend. */
+#include "app_internal.h"
+#include "dispatch.h"
+
+/* The blocks every controller shares (mc/drive.h). */
+static mc_status_t drive_init(mc_drive_t *d, const mc_config_t *c,
+                              const mc_timing_t *tm)
+{
+    const mc_current_loop_params_t cp = {
+        .cfg = c->current,
+        .R_ohm = c->motor.R_ohm,
+        .Ld_H = c->motor.Ld_H,
+        .Lq_H = c->motor.Lq_H,
+        .psi_Wb = c->motor.psi_Wb,
+        .Ts_s = tm->Ts_s,
+    };
+    mc_status_t st = mc_current_loop_init_f32(&d->current, &cp);
+    if (st != MC_OK) {
+        return st;
+    }
+    const mc_outer_loop_params_t op = {
+        .position_kp_per_s = c->position.kp_per_s,
+        .omega_max_rad_s = c->limits.omega_max_rad_s,
+        .i_max_A = c->limits.i_max_A,
+        .decimation = tm->slow_decimation,
+    };
+    st = mc_outer_loop_init_f32(&d->outer, &op);
+    d->n_p = (float)c->motor.pole_pairs;
+    d->v_d_last_V = 0.0f;
+    d->v_q_last_V = 0.0f;
+    return st;
+}
+
+/* The ALIGN sequence of a sensorless start (mc/align.h). */
+static mc_status_t align_init(mc_align_f32_t *a, const mc_config_t *c,
+                              const mc_timing_t *tm)
+{
+    const mc_align_params_t ap = {
+        .cfg = c->align,
+        .R_ohm = c->motor.R_ohm,
+        .L_H = c->motor.Lq_H,
+        .psi_Wb = c->motor.psi_Wb,
+        .J_kgm2 = c->motor.J_kgm2,
+        .kt_Nm_per_A = mc_motor_kt_f32(&c->motor),
+        .pole_pairs = c->motor.pole_pairs,
+        .Ts_s = tm->Ts_s,
+    };
+    return mc_align_init_f32(a, &ap);
+}
+
+mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
+                             const mc_timing_t *tm)
+{
+    app->cfg = *cfg;
+    app->timing = *tm;
+    if (!mc_dispatch_estimator_info(cfg, &app->est_info)) {
+        return MC_ERR_PARAM;
+    }
+    mc_status_t st = drive_init(&app->drive, cfg, tm);
+    if (st == MC_OK) {
+        st = mc_dispatch_estimator_init(app, cfg, tm);
+    }
+    if (st == MC_OK) {
+        st = mc_dispatch_controller_init(app, cfg, tm);
+    }
+    if (st == MC_OK && app->est_info.sensorless) {
+        st = align_init(&app->align, cfg, tm);
+    }
+    if (st == MC_OK) {
+        st = mc_delay_comp_init_f32(&app->delay_comp, tm->Ts_s,
+                                    tm->delay_periods, tm->delay_compensation);
+    }
+    if (st == MC_OK) {
+        st = mc_applied_voltage_init_f32(&app->v_applied, tm->delay_periods);
+    }
+    return st;
+}

@@ -1,0 +1,138 @@
+/* The control path of the RUN and ALIGN states: the selected controller,
+ * the shared current loop, the modulator with the delay compensation, the
+ * output checks (see mc/app.h). */
+#include <math.h>
+
+#include "app_internal.h"
+#include "dispatch.h"
+#include "mc/angle.h"
+#include "mc/park.h"
+#include "mc/svpwm.h"
+
+/* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
+ * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit.
+ * Also fills the alpha/beta voltage the inverter will apply. */
+static uint32_t modulate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
+{
+    float s = fr->s;
+    float c = fr->c;
+    if (app->delay_comp.enabled) {
+        const float theta_v =
+            mc_delay_comp_angle_f32(&app->delay_comp, t->theta_e_rad,
+                                    app->drive.n_p * t->omega_m_rad_s);
+        if (!isfinite(theta_v)) {
+            return MC_FAULT_NONFINITE;
+        }
+        mc_sincos_f32(theta_v, &s, &c);
+    }
+    float v_al;
+    float v_be;
+    mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
+    mc_svpwm_out_f32_t pwm;
+    if (mc_svpwm_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm) !=
+        MC_OK) {
+        return mc_drive_voltage_fault(t->v_dc_V);
+    }
+    t->v_saturated = t->v_saturated || pwm.overmodulated;
+    t->v_alpha_V = pwm.v_alpha_V;
+    t->v_beta_V = pwm.v_beta_V;
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        t->duty_abc[k] = pwm.duty[k];
+    }
+    return MC_FAULT_NONE;
+}
+
+/* Non-finite anywhere in references or outputs is a fault. */
+static uint32_t check_outputs(const mc_telemetry_t *t)
+{
+    const float x[] = { t->i_d_ref_A,  t->i_q_ref_A,   t->omega_m_ref_rad_s,
+                        t->i_d_A,      t->i_q_A,       t->v_d_V,
+                        t->v_q_V,      t->duty_abc[0], t->duty_abc[1],
+                        t->duty_abc[2] };
+    return mc_all_finite_f32(x, (uint32_t)(sizeof x / sizeof x[0]))
+               ? MC_FAULT_NONE
+               : MC_FAULT_NONFINITE;
+}
+
+void mc_app_start_run(mc_app_t *app)
+{
+    mc_drive_t *d = &app->drive;
+    mc_current_loop_reset_f32(&d->current);
+    mc_outer_loop_reset_f32(&d->outer);
+    d->v_d_last_V = 0.0f;
+    d->v_q_last_V = 0.0f;
+    mc_dispatch_controller_start(app);
+    app->mode = app->cmd.mode;
+    app->state = MC_STATE_RUN;
+}
+
+void mc_app_start_align(mc_app_t *app)
+{
+    mc_current_loop_reset_f32(&app->drive.current);
+    mc_align_reset_f32(&app->align);
+    mc_dispatch_estimator_hold(app, app->cfg.align.angle_e_rad);
+    app->state = MC_STATE_ALIGN;
+}
+
+uint32_t mc_app_run(mc_app_t *app, const mc_command_t *cmd,
+                    const mc_frame_t *fr, mc_telemetry_t *t)
+{
+    if (cmd->mode != app->mode) {
+        mc_outer_loop_restart_tick_f32(&app->drive.outer);
+        mc_dispatch_controller_mode_change(app, app->mode, cmd->mode, t);
+        app->mode = cmd->mode;
+    }
+    t->theta_m_ref_rad = cmd->theta_m_ref_rad;
+    uint32_t faults = mc_dispatch_controller_step(app, cmd, t);
+    app->drive.v_d_last_V = t->v_d_V;
+    app->drive.v_q_last_V = t->v_q_V;
+    if (faults == MC_FAULT_NONE) {
+        faults = modulate(app, fr, t);
+    }
+    faults |= check_outputs(t);
+    if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {
+        faults |= MC_FAULT_NONFINITE;
+    }
+    return faults;
+}
+
+/* One sample of the ALIGN sequence: the current references in the frame
+ * of the ALIGN vector (the estimator reports its angle outside RUN) and
+ * the sequence's state. */
+static uint32_t align_references(mc_app_t *app, const mc_frame_t *fr,
+                                 mc_telemetry_t *t, mc_align_state_t *state)
+{
+    float v_al;
+    float v_be;
+    mc_applied_voltage_last_f32(&app->v_applied, &v_al, &v_be);
+    mc_align_out_t o;
+    if (mc_align_step_f32(&app->align, fr->in.i_alpha_A, fr->in.i_beta_A, v_al,
+                          v_be, &o) != MC_OK) {
+        return MC_FAULT_NONFINITE;
+    }
+    t->i_d_ref_A = o.i_d_ref_A;
+    t->i_q_ref_A = o.i_q_ref_A;
+    *state = o.state;
+    return (o.state == MC_ALIGN_TIMEOUT) ? MC_FAULT_ESTIMATE : MC_FAULT_NONE;
+}
+
+uint32_t mc_app_align(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
+{
+    mc_align_state_t st = MC_ALIGN_BUSY;
+    uint32_t faults = align_references(app, fr, t, &st);
+    if (faults == MC_FAULT_NONE) {
+        faults = mc_drive_current_step(&app->drive, t);
+    }
+    if (faults == MC_FAULT_NONE) {
+        faults = modulate(app, fr, t);
+    }
+    faults |= check_outputs(t);
+    if (faults == MC_FAULT_NONE && st == MC_ALIGN_DONE) {
+        faults = mc_dispatch_estimator_start(app, app->cfg.align.angle_e_rad,
+                                             &fr->in);
+        if (faults == MC_FAULT_NONE) {
+            mc_app_start_run(app);
+        }
+    }
+    return faults;
+}

@@ -1,0 +1,84 @@
+/*
+ * The blocks every controller may use, owned by the application and handed
+ * to the selected controller's glue (mc/controllers.h): the d/q current loop
+ * (also used by the ALIGN start), the setpoint stage and the previous RUN
+ * voltage (bumpless transfers).
+ *
+ * The interface every controller of the list implements, in its own glue
+ * file (firmware/app/ctl_<name>.c):
+ *   mc_ctl_<name>_config_default(cfg)   its configuration block
+ *   mc_ctl_<name>_params[]              the block's parameter table
+ *   mc_ctl_<name>_init(ctl, cfg, timing, estimator info)   design and check
+ *                                       what it needs from the estimator
+ *   mc_ctl_<name>_start(ctl)            RUN begins
+ *   mc_ctl_<name>_mode_change(ctl, drive, from, to, t)     bumpless transfer
+ *   mc_ctl_<name>_step(ctl, drive, cmd, t)  one RUN sample: v_d, v_q (and
+ *                                       the references) into *t; fault bits
+ * Interrupt context: start, mode_change and step yes; the others no.
+ */
+#ifndef MC_DRIVE_H
+#define MC_DRIVE_H
+
+#include <stdint.h>
+
+#include "mc/compiler.h"
+#include "mc/current_loop.h"
+#include "mc/drive_io.h"
+#include "mc/estimator.h"
+#include "mc/faults.h"
+#include "mc/outer_loop.h"
+
+typedef struct {
+    mc_current_loop_f32_t current; /* d/q PI + decoupling + voltage limit */
+    mc_outer_loop_f32_t outer;     /* setpoints of the control modes */
+    float n_p;                     /* pole pairs */
+    float v_d_last_V, v_q_last_V;  /* voltage of the previous RUN ISR */
+} mc_drive_t;
+
+/* The fault of a failed voltage computation (current loop, modulator): a
+ * bus at or below 0 V (reachable when v_dc_min_V = 0 disables the
+ * under-voltage check) is an under-voltage; anything else is a non-finite
+ * value. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_drive_voltage_fault(float v_dc_V)
+{
+    return (v_dc_V <= 0.0f) ? MC_FAULT_DC_UNDERVOLTAGE : MC_FAULT_NONFINITE;
+}
+
+/* The current loop on t's measured i_d, i_q and references i_d_ref,
+ * i_q_ref at omega_e = n_p t->omega_m_rad_s and t->v_dc_V: v_d, v_q,
+ * v_saturated into *t. Fault bits (mc_drive_voltage_fault).
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_drive_current_step(mc_drive_t *d,
+                                                     mc_telemetry_t *t)
+{
+    const float omega_e = d->n_p * t->omega_m_rad_s;
+    mc_current_loop_out_t v;
+    const mc_status_t st =
+        mc_current_loop_step_f32(&d->current, t->i_d_A, t->i_q_A, t->i_d_ref_A,
+                                 t->i_q_ref_A, omega_e, t->v_dc_V, &v);
+    if (st != MC_OK) {
+        return mc_drive_voltage_fault(t->v_dc_V);
+    }
+    t->v_d_V = v.v_d_V;
+    t->v_q_V = v.v_q_V;
+    t->v_saturated = v.saturated;
+    return MC_FAULT_NONE;
+}
+
+/* Declares the interface above for controller `name`, after its
+ * mc_ctl_<name>_config_t and mc_ctl_<name>_t: the parameter table and every
+ * function but the step, which the glue header defines
+ * MC_STATIC_FORCEINLINE (it runs in the ISR). One declaration for every
+ * controller, so their signatures cannot drift apart. */
+#define MC_CONTROLLER_INTERFACE(name)                                          \
+    extern const mc_param_t mc_ctl_##name##_params[];                          \
+    void mc_ctl_##name##_config_default(mc_ctl_##name##_config_t *c);          \
+    mc_status_t mc_ctl_##name##_init(                                          \
+        mc_ctl_##name##_t *ctl, const mc_config_t *cfg, const mc_timing_t *tm, \
+        const mc_estimator_info_t *est);                                       \
+    void mc_ctl_##name##_start(mc_ctl_##name##_t *ctl);                        \
+    void mc_ctl_##name##_mode_change(mc_ctl_##name##_t *ctl, mc_drive_t *d,    \
+                                     mc_mode_t from, mc_mode_t to,             \
+                                     const mc_telemetry_t *t)
+
+#endif /* MC_DRIVE_H */

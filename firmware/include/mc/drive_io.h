@@ -1,0 +1,75 @@
+/*
+ * What goes into and comes out of the drive: states, control modes, the
+ * command set from outside the ISR and the telemetry record of one fast ISR
+ * (the record the ISR fills while it runs; blocks read their inputs from it
+ * and write their outputs into it). See mc/app.h for the exchange.
+ */
+#ifndef MC_DRIVE_IO_H
+#define MC_DRIVE_IO_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef enum {
+    MC_STATE_IDLE = 0,
+    MC_STATE_CALIBRATING,
+    MC_STATE_RUN,
+    MC_STATE_FAULT,
+    MC_STATE_ALIGN /* sensorless start (appended: keeps the values
+                      of the older states) */
+} mc_state_t;
+
+typedef enum {
+    MC_MODE_CURRENT = 0, /* i_d_ref_A, i_q_ref_A (torque control) */
+    MC_MODE_SPEED,       /* omega_m_ref_rad_s */
+    MC_MODE_POSITION     /* theta_m_ref_rad */
+} mc_mode_t;
+
+/* Command set from outside the ISR. */
+typedef struct {
+    bool enable;      /* level: run while true */
+    bool clear_fault; /* rising edge requests a fault clear */
+    mc_mode_t mode;
+    float i_d_ref_A, i_q_ref_A; /* MC_MODE_CURRENT */
+    float omega_m_ref_rad_s;    /* MC_MODE_SPEED */
+    float theta_m_ref_rad;      /* MC_MODE_POSITION (multi-turn) */
+} mc_command_t;
+
+/* Telemetry of the latest fast ISR. 8-byte aligned: the ISR publishes
+ * it by one struct copy, and the C library's memcpy moves 8-byte aligned
+ * blocks with doubleword loads and stores (newlib on the Cortex-M4: 36
+ * instructions for this record instead of 66). */
+typedef struct {
+    _Alignas(8) uint32_t isr_count; /* number of fast ISRs since init */
+    mc_state_t state;
+    mc_mode_t mode;
+    uint32_t faults_latched; /* mc_fault_t bits, latched */
+    uint32_t faults_active;  /* mc_fault_t bits, cause present now */
+    float i_abc_A[3];        /* offset-corrected phase currents */
+    float i_offset_abc_A[3]; /* calibrated offsets */
+    float v_dc_V;
+    float i_d_A, i_q_A; /* in the controller's frame */
+    float i_d_ref_A, i_q_ref_A;
+    float v_d_V, v_q_V;        /* voltage references (after the limit) */
+    float v_alpha_V, v_beta_V; /* voltage the duties apply (after the
+                                  modulator's limit; 0 with PWM off) */
+    bool v_saturated;
+    float theta_e_rad;   /* angle used by the controller */
+    float theta_m_rad;   /* multi-turn mechanical position */
+    float omega_m_rad_s; /* speed estimate */
+    float tau_L_hat_Nm;  /* load-torque estimate (0 from an
+                            estimator without one) */
+    float flux_ratio_sq; /* |rho_hat|^2 of the flux observer
+                            (sensorless; 1 when converged) */
+    float omega_m_ref_rad_s;
+    float theta_m_ref_rad;
+    float duty_abc[3]; /* written to the HAL (next period) */
+    bool outputs_enabled;
+    float isr_cost_s;      /* cost of this ISR, entry to duty write */
+    float isr_cost_max_s;  /* maximum since init */
+    uint32_t isr_overruns; /* ISRs with cost > period since init */
+    bool slow_loop_ran;    /* this ISR ran the decimated speed /
+                              position loop */
+} mc_telemetry_t;
+
+#endif /* MC_DRIVE_IO_H */

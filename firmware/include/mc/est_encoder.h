@@ -1,0 +1,47 @@
+/*
+ * Estimator "encoder": incremental encoder (mc/encoder_tracker.h): the
+ * electrical angle from the count, the multi-turn position, the speed from
+ * a tracking PLL. No load-torque estimate (tau_L_hat = 0).
+ * Interface: mc/estimator.h.
+ */
+#ifndef MC_EST_ENCODER_H
+#define MC_EST_ENCODER_H
+
+#include <stdint.h>
+
+#include "mc/compiler.h"
+#include "mc/encoder_tracker.h"
+#include "mc/estimator.h"
+#include "mc/faults.h"
+#include "mc/params.h"
+#include "mc/timing.h"
+
+typedef struct {
+    uint32_t counts_per_rev;   /* must equal hal_encoder_counts_per_rev() */
+    float offset_e_rad;        /* theta_e at count 0 (alignment) */
+    float pll_bandwidth_rad_s; /* speed-estimate PLL bandwidth */
+} mc_est_encoder_config_t;
+
+typedef struct {
+    mc_encoder_tracker_f32_t tracker;
+} mc_est_encoder_t;
+
+MC_ESTIMATOR_INTERFACE(encoder);
+
+/* Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_est_encoder_step(mc_est_encoder_t *est,
+                                                   const mc_est_input_t *in,
+                                                   mc_telemetry_t *t)
+{
+    mc_encoder_estimate_t e;
+    if (mc_encoder_tracker_update_f32(&est->tracker, in->encoder_count, &e) !=
+        MC_OK) {
+        return MC_FAULT_ENCODER;
+    }
+    t->theta_e_rad = e.theta_e_rad;
+    t->theta_m_rad = e.theta_m_rad;
+    t->omega_m_rad_s = e.omega_m_rad_s;
+    return MC_FAULT_NONE;
+}
+
+#endif /* MC_EST_ENCODER_H */

@@ -1,0 +1,55 @@
+/*
+ * Estimator "flux_ii": sensorless, currents only: the flux observer front
+ * end (mc/est_flux_front.h: paper 001 (12)-(14)) and the I&I speed and
+ * load-torque observer (15)-(16) (mc/speed_load_observer.h), the paper 001
+ * scheme. The angle is the flux observer's.
+ * Interface: mc/estimator.h.
+ */
+#ifndef MC_EST_FLUX_II_H
+#define MC_EST_FLUX_II_H
+
+#include <stdint.h>
+
+#include "mc/compiler.h"
+#include "mc/est_flux_front.h"
+#include "mc/estimator.h"
+#include "mc/params.h"
+#include "mc/speed_load_observer.h"
+#include "mc/timing.h"
+
+typedef struct {
+    float a1; /* I&I gain a1 of (15), > 0 */
+    float a2; /* I&I gain a2 of (15), > 0 */
+} mc_est_flux_ii_config_t;
+
+typedef struct {
+    mc_flux_front_t front;
+    mc_speed_load_obs_f32_t ii;
+} mc_est_flux_ii_t;
+
+MC_ESTIMATOR_INTERFACE(flux_ii);
+
+/* Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_est_flux_ii_step(mc_est_flux_ii_t *est,
+                                                   const mc_est_input_t *in,
+                                                   mc_telemetry_t *t)
+{
+    float theta_obs;
+    float i_q_mean;
+    uint32_t faults;
+    if (!mc_flux_front_step(&est->front, in, t, &theta_obs, &i_q_mean,
+                            &faults)) {
+        return faults;
+    }
+    mc_status_t st = mc_speed_load_obs_step_f32(&est->ii, theta_obs, i_q_mean);
+    if (st == MC_OK) {
+        st = mc_speed_load_obs_check_f32(&est->ii);
+    }
+    t->theta_e_rad = theta_obs;
+    t->omega_m_rad_s = mc_speed_load_obs_omega_m_f32(&est->ii);
+    t->tau_L_hat_Nm = mc_speed_load_obs_tau_L_f32(&est->ii);
+    mc_flux_front_track(&est->front, t);
+    return faults | mc_flux_front_bounds_fault(st);
+}
+
+#endif /* MC_EST_FLUX_II_H */

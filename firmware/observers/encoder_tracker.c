@@ -1,0 +1,79 @@
+/* Encoder position / angle / speed tracking (see mc/encoder_tracker.h). */
+#include "mc/encoder_tracker.h"
+
+#include <math.h>
+
+#include "mc/angle.h"
+#include "mc/motor.h"
+
+mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
+                                        uint32_t cpr, uint32_t pole_pairs,
+                                        float offset_e_rad, float w_pll_rad_s,
+                                        float Ts_s)
+{
+    if (!isfinite(offset_e_rad) || !isfinite(w_pll_rad_s) || !isfinite(Ts_s)) {
+        return MC_ERR_NONFINITE;
+    }
+    if (cpr < MC_ENCODER_CPR_MIN || cpr > MC_ENCODER_CPR_MAX ||
+        pole_pairs < 1u || pole_pairs > MC_MOTOR_POLE_PAIRS_MAX ||
+        fabsf(offset_e_rad) > MC_TWO_PI_F || !(w_pll_rad_s > 0.0f) ||
+        !(Ts_s > 0.0f) || w_pll_rad_s * Ts_s > MC_ENCODER_PLL_WTS_MAX) {
+        return MC_ERR_PARAM;
+    }
+    et->cpr = cpr;
+    et->pole_pairs = pole_pairs;
+    et->offset_e_rad = offset_e_rad;
+    et->rad_per_count = MC_TWO_PI_F / (float)cpr;
+    /* Critically damped PLL: s^2 + kp s + ki = (s + w)^2. */
+    et->kp_per_s = 2.0f * w_pll_rad_s;
+    et->ki_Ts_per_s = w_pll_rad_s * w_pll_rad_s * Ts_s; /* ki Ts, once */
+    et->Ts_s = Ts_s;
+    et->primed = false;
+    et->last_count = 0u;
+    et->position_counts = 0;
+    et->theta_hat_rad = 0.0f;
+    et->omega_hat_rad_s = 0.0f;
+    return MC_OK;
+}
+
+mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et,
+                                          uint32_t count,
+                                          mc_encoder_estimate_t *out)
+{
+    if (count >= et->cpr) {
+        return MC_ERR_RANGE;
+    }
+    /* Centre of the count's interval, single turn, wrapped to (-pi, pi]. */
+    const float theta_meas =
+        mc_wrap_pi_f32(((float)count + 0.5f) * et->rad_per_count);
+    if (!et->primed) {
+        et->primed = true;
+        et->last_count = count;
+        et->position_counts = (int64_t)count;
+        et->theta_hat_rad = theta_meas;
+        et->omega_hat_rad_s = 0.0f;
+    }
+    /* Multi-turn position: count difference wrapped to [-cpr/2, cpr/2). */
+    int64_t delta = (int64_t)count - (int64_t)et->last_count;
+    const int64_t half = (int64_t)(et->cpr / 2u);
+    if (delta >= half) {
+        delta -= (int64_t)et->cpr;
+    } else if (delta < -half) {
+        delta += (int64_t)et->cpr;
+    }
+    et->position_counts += delta;
+    et->last_count = count;
+
+    /* Angle-tracking PLL (header): speed = integral branch. */
+    const float e = mc_angle_diff_f32(theta_meas, et->theta_hat_rad);
+    et->omega_hat_rad_s += et->ki_Ts_per_s * e;
+    et->theta_hat_rad =
+        mc_wrap_pi_f32(et->theta_hat_rad +
+                       et->Ts_s * (et->omega_hat_rad_s + et->kp_per_s * e));
+
+    out->theta_m_rad = ((float)et->position_counts + 0.5f) * et->rad_per_count;
+    out->theta_e_rad =
+        mc_wrap_pi_f32((float)et->pole_pairs * theta_meas + et->offset_e_rad);
+    out->omega_m_rad_s = et->omega_hat_rad_s;
+    return MC_OK;
+}

@@ -1,0 +1,357 @@
+/*
+ * Angle utilities against double-precision libm references:
+ * wrap/diff, sincos and atan2 error bounds over the whole accepted range,
+ * and the unwrap operator A on long ramps (exact turn count).
+ */
+#include "mc_test.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "mc/angle.h"
+#include "test_rng.h"
+
+#define N_RANDOM 1000000
+#define RANGE_D  ((double)MC_ANGLE_MAX_ABS_RAD)
+
+/* Angular distance of two angles, modulo 2 pi, in double. */
+static double angle_dist(double a, double b)
+{
+    return fabs(remainder(a - b, MC_TEST_TWO_PI));
+}
+
+/* Test inputs: a dense grid over the full accepted range, a dense grid
+ * over [-4 pi, 4 pi], points next to multiples of pi/4 (range reduction and
+ * quadrant edges) and seeded random values (small, up to 1e4, full range). */
+typedef void (*angle_check_fn)(float theta, double *max_err);
+
+static void for_each_test_angle(angle_check_fn check, double *max_err)
+{
+    for (double t = -RANGE_D; t <= RANGE_D; t += 0.0123) {
+        check((float)t, max_err);
+    }
+    for (double t = -4.0 * MC_TEST_PI; t <= 4.0 * MC_TEST_PI; t += 1e-5) {
+        check((float)t, max_err);
+    }
+    for (int k = -(int)(RANGE_D / (MC_TEST_PI / 4.0)); k <= (int)(RANGE_D / (MC_TEST_PI / 4.0));
+         k++) {
+        const float centre = (float)(k * MC_TEST_PI / 4.0);
+        float t = centre;
+        for (int i = 0; i < 4; i++) {
+            t = nextafterf(t, -INFINITY);
+        }
+        for (int i = 0; i < 9; i++, t = nextafterf(t, INFINITY)) {
+            if (fabsf(t) <= MC_ANGLE_MAX_ABS_RAD) {
+                check(t, max_err);
+            }
+        }
+    }
+    test_rng_t rng = test_rng_seed(21);
+    for (int n = 0; n < N_RANDOM; n++) {
+        check((float)test_rng_range(&rng, -10.0, 10.0), max_err);
+        check((float)test_rng_range(&rng, -1.0e4, 1.0e4), max_err);
+        check((float)test_rng_range(&rng, -RANGE_D, RANGE_D), max_err);
+    }
+}
+
+/* ---- wrap ---------------------------------------------------------------- */
+
+static void check_wrap(float theta, double *max_err)
+{
+    const float r = mc_wrap_pi_f32(theta);
+    assert_true(r > -MC_PI_F && r <= MC_PI_F);
+    const double err = angle_dist(r, theta);
+    if (err > *max_err) {
+        *max_err = err;
+    }
+}
+
+static void test_wrap_pi_range_and_error(void **state)
+{
+    (void)state;
+    double max_err = 0.0;
+    for_each_test_angle(check_wrap, &max_err);
+    printf("wrap_pi: max error %.3g rad (bound %.3g)\n", max_err, (double)MC_WRAP_PI_MAX_ERR_RAD);
+    assert_true(max_err <= MC_WRAP_PI_MAX_ERR_RAD);
+}
+
+/* Inputs already inside (-pi, pi] come back bit-exactly; the single float
+ * below -pi's representation, -MC_PI_F, maps to +MC_PI_F. */
+static void test_wrap_pi_is_exact_inside(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(22);
+    for (int n = 0; n < N_RANDOM; n++) {
+        const float t = (float)test_rng_range(&rng, -MC_TEST_PI, MC_TEST_PI);
+        if (t > -MC_PI_F) {
+            const float r = mc_wrap_pi_f32(t);
+            assert_memory_equal(&r, &t, sizeof r);
+        }
+    }
+    const float edges[] = { 0.0f, -0.0f, MC_PI_F, nextafterf(-MC_PI_F, 0.0f), 1e-38f, -1e-45f };
+    for (size_t i = 0; i < sizeof edges / sizeof edges[0]; i++) {
+        const float r = mc_wrap_pi_f32(edges[i]);
+        assert_memory_equal(&r, &edges[i], sizeof r);
+    }
+    assert_true(mc_wrap_pi_f32(-MC_PI_F) == MC_PI_F);
+    /* whole turns (as far as the range allows) wrap to the float rounding
+     * error of t itself */
+    for (int k = -3978; k <= 3978; k++) {
+        const float t = (float)(k * MC_TEST_TWO_PI);
+        assert_true(fabs((double)mc_wrap_pi_f32(t) - ((double)t - k * MC_TEST_TWO_PI)) <=
+                    MC_WRAP_PI_MAX_ERR_RAD);
+    }
+}
+
+static void test_wrap_pi_rejects_out_of_range(void **state)
+{
+    (void)state;
+    assert_true(isnan(mc_wrap_pi_f32(NAN)));
+    assert_true(isnan(mc_wrap_pi_f32(INFINITY)));
+    assert_true(isnan(mc_wrap_pi_f32(-INFINITY)));
+    assert_true(isnan(mc_wrap_pi_f32(nextafterf(MC_ANGLE_MAX_ABS_RAD, INFINITY))));
+    assert_true(isnan(mc_wrap_pi_f32(-1e30f)));
+    assert_false(isnan(mc_wrap_pi_f32(MC_ANGLE_MAX_ABS_RAD)));
+    assert_false(isnan(mc_wrap_pi_f32(-MC_ANGLE_MAX_ABS_RAD)));
+}
+
+static void test_angle_diff(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(23);
+    for (int n = 0; n < N_RANDOM; n++) {
+        const float a = (float)test_rng_range(&rng, -MC_TEST_PI, MC_TEST_PI);
+        const float b = (float)test_rng_range(&rng, -MC_TEST_PI, MC_TEST_PI);
+        const float d = mc_angle_diff_f32(a, b);
+        assert_true(d > -MC_PI_F && d <= MC_PI_F);
+        /* a - b itself rounds once (half an ulp of |a - b| <= 2 pi) */
+        assert_true(angle_dist(d, (double)a - (double)b) <= MC_WRAP_PI_MAX_ERR_RAD + 2.4e-7);
+    }
+    assert_true(isnan(mc_angle_diff_f32(NAN, 0.0f)));
+}
+
+/* ---- sincos -------------------------------------------------------------- */
+
+static void check_sincos(float theta, double *max_err)
+{
+    float s, c;
+    mc_sincos_f32(theta, &s, &c);
+    const double es = fabs(s - sin((double)theta));
+    const double ec = fabs(c - cos((double)theta));
+    if (es > *max_err) {
+        *max_err = es;
+    }
+    if (ec > *max_err) {
+        *max_err = ec;
+    }
+}
+
+static void test_sincos_error_bound(void **state)
+{
+    (void)state;
+    double max_err = 0.0;
+    for_each_test_angle(check_sincos, &max_err);
+    printf("sincos: max abs error %.3g (bound %.3g)\n", max_err, (double)MC_SINCOS_MAX_ABS_ERR);
+    assert_true(max_err <= MC_SINCOS_MAX_ABS_ERR);
+}
+
+static void test_sincos_exact_points_and_non_finite(void **state)
+{
+    (void)state;
+    float s, c;
+    mc_sincos_f32(0.0f, &s, &c);
+    assert_true(s == 0.0f && c == 1.0f);
+    const float bad[] = { NAN, INFINITY, -INFINITY, nextafterf(MC_ANGLE_MAX_ABS_RAD, INFINITY),
+                          -3e38f };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        s = 0.0f;
+        c = 0.0f;
+        mc_sincos_f32(bad[i], &s, &c);
+        assert_true(isnan(s) && isnan(c));
+    }
+}
+
+/* ---- atan2 --------------------------------------------------------------- */
+
+static void check_atan2(float y, float x, double *max_err)
+{
+    const float a = mc_atan2_f32(y, x);
+    assert_true(a >= -MC_PI_F && a <= MC_PI_F);
+    const double err = angle_dist(a, atan2((double)y, (double)x));
+    if (err > *max_err) {
+        *max_err = err;
+    }
+}
+
+static void test_atan2_error_bound(void **state)
+{
+    (void)state;
+    double max_err = 0.0;
+    /* dense angle grid at many magnitudes, including denormal and huge */
+    const double mags[] = { 1e-40, 1e-30, 1e-6, 1.0, 7.3, 1e6, 1e30, 3e38 };
+    for (size_t m = 0; m < sizeof mags / sizeof mags[0]; m++) {
+        for (double phi = -MC_TEST_PI; phi <= MC_TEST_PI; phi += 2e-5) {
+            check_atan2((float)(mags[m] * sin(phi)), (float)(mags[m] * cos(phi)), &max_err);
+        }
+    }
+    test_rng_t rng = test_rng_seed(24);
+    for (int n = 0; n < N_RANDOM; n++) {
+        check_atan2((float)test_rng_range(&rng, -1.0, 1.0), (float)test_rng_range(&rng, -1.0, 1.0),
+                    &max_err);
+        /* independent log-uniform magnitudes of x and y */
+        const double ly = test_rng_range(&rng, -38.0, 38.0);
+        const double lx = test_rng_range(&rng, -38.0, 38.0);
+        const double sy = test_rng_unit(&rng) < 0.5 ? -1.0 : 1.0;
+        const double sx = test_rng_unit(&rng) < 0.5 ? -1.0 : 1.0;
+        check_atan2((float)(sy * pow(10.0, ly)), (float)(sx * pow(10.0, lx)), &max_err);
+    }
+    /* axes and diagonals */
+    const float v[] = { 0.0f, -0.0f, 1.0f, -1.0f, FLT_MAX, -FLT_MAX, FLT_MIN };
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        for (size_t j = 0; j < sizeof v / sizeof v[0]; j++) {
+            if (v[i] != 0.0f || v[j] != 0.0f) {
+                check_atan2(v[i], v[j], &max_err);
+            }
+        }
+    }
+    printf("atan2: max error %.3g rad (bound %.3g)\n", max_err, (double)MC_ATAN2_MAX_ERR_RAD);
+    assert_true(max_err <= MC_ATAN2_MAX_ERR_RAD);
+}
+
+static void test_atan2_special_inputs(void **state)
+{
+    (void)state;
+    assert_true(mc_atan2_f32(0.0f, 0.0f) == 0.0f);
+    assert_true(mc_atan2_f32(-0.0f, -0.0f) == 0.0f);
+    assert_true(isnan(mc_atan2_f32(NAN, 1.0f)));
+    assert_true(isnan(mc_atan2_f32(1.0f, NAN)));
+    assert_true(isnan(mc_atan2_f32(INFINITY, 1.0f)));
+    assert_true(isnan(mc_atan2_f32(1.0f, -INFINITY)));
+}
+
+/* ---- unwrap (operator A) ------------------------------------------------- */
+
+/* Feed the wrapped (float) version of a double angle sequence and check
+ * that the turn count is exact at every sample and that e + 2 pi n equals
+ * the true angle within the float quantisation of the wrapped input. */
+typedef double (*step_fn)(test_rng_t *rng);
+
+static void run_unwrap(double theta0, long n_samples, step_fn next_step, uint64_t seed,
+                       double *final_theta)
+{
+    test_rng_t rng = test_rng_seed(seed);
+    double theta = theta0;
+    mc_unwrap_f32_t u;
+    assert_int_equal(mc_unwrap_init_f32(&u, (float)remainder(theta, MC_TEST_TWO_PI)), MC_OK);
+    const long turns0 = lround((theta - remainder(theta, MC_TEST_TWO_PI)) / MC_TEST_TWO_PI);
+    for (long k = 0; k < n_samples; k++) {
+        theta += next_step(&rng);
+        const double e_exact = remainder(theta, MC_TEST_TWO_PI);
+        const float e = (float)e_exact;
+        const float y = mc_unwrap_step_f32(&u, e);
+        const long turns_true = lround((theta - e_exact) / MC_TEST_TWO_PI) - turns0;
+        assert_int_equal(mc_unwrap_turns_f32(&u), turns_true);
+        const double y_exact = (double)e + MC_TEST_TWO_PI * (double)mc_unwrap_turns_f32(&u);
+        /* only the float rounding of the wrapped input (half an ulp of pi) */
+        assert_true(fabs(y_exact - (theta - MC_TEST_TWO_PI * turns0)) <= 1.2e-7);
+        /* the float output is e + 2 pi n rounded to float */
+        assert_true(fabs(y - y_exact) <= 2.0 * FLT_EPSILON * fabs(y_exact) + 1e-6);
+    }
+    *final_theta = theta;
+}
+
+static double step_forward(test_rng_t *rng)
+{
+    return test_rng_range(rng, 0.05, 3.1); /* < pi per sample */
+}
+
+static double step_backward(test_rng_t *rng)
+{
+    return -test_rng_range(rng, 0.05, 3.1);
+}
+
+static double step_random_walk(test_rng_t *rng)
+{
+    return test_rng_range(rng, -3.1, 3.1);
+}
+
+static double step_slow_forward(test_rng_t *rng)
+{
+    return test_rng_range(rng, 0.0, 2e-3); /* 1 kHz electrical at 20 kHz */
+}
+
+static void test_unwrap_10000_turns_forward_and_backward(void **state)
+{
+    (void)state;
+    double theta_end;
+    /* mean step 1.575 rad: 41,000 samples make about 10,280 turns */
+    run_unwrap(0.3, 41000, step_forward, 31, &theta_end);
+    assert_true(theta_end >= 10000.0 * MC_TEST_TWO_PI);
+    run_unwrap(-2.0, 41000, step_backward, 32, &theta_end);
+    assert_true(theta_end <= -10000.0 * MC_TEST_TWO_PI);
+    run_unwrap(MC_TEST_PI, 200000, step_random_walk, 33, &theta_end);
+    run_unwrap(-3.0, 200000, step_slow_forward, 34, &theta_end);
+}
+
+/* A constant-speed ramp through exactly +-pi on the samples. */
+static void test_unwrap_uniform_ramp_through_pi(void **state)
+{
+    (void)state;
+    mc_unwrap_f32_t u;
+    assert_int_equal(mc_unwrap_init_f32(&u, 0.0f), MC_OK);
+    const int samples_per_turn = 8; /* step pi/4, hits +-pi exactly */
+    for (long k = 1; k <= 10000L * samples_per_turn; k++) {
+        const double theta = k * (MC_TEST_TWO_PI / samples_per_turn);
+        const float e = mc_wrap_pi_f32((float)remainder(theta, MC_TEST_TWO_PI));
+        (void)mc_unwrap_step_f32(&u, e);
+        const double y = (double)e + MC_TEST_TWO_PI * mc_unwrap_turns_f32(&u);
+        assert_true(fabs(y - theta) <= 1e-6);
+    }
+    assert_int_equal(mc_unwrap_turns_f32(&u), 10000);
+}
+
+static void test_unwrap_non_finite_and_counter_limit(void **state)
+{
+    (void)state;
+    mc_unwrap_f32_t u;
+    assert_int_equal(mc_unwrap_init_f32(&u, NAN), MC_ERR_NONFINITE);
+    assert_int_equal(mc_unwrap_init_f32(&u, 3.0f), MC_OK);
+    mc_unwrap_f32_t before = u;
+    assert_true(isnan(mc_unwrap_step_f32(&u, NAN)));
+    assert_true(isnan(mc_unwrap_step_f32(&u, -INFINITY)));
+    assert_memory_equal(&u, &before, sizeof u);
+    /* the next good sample still sees the crossing from 3.0 */
+    (void)mc_unwrap_step_f32(&u, -3.0f);
+    assert_int_equal(mc_unwrap_turns_f32(&u), 1);
+
+    u.turns = INT32_MAX;
+    u.prev_wrapped_rad = 3.0f;
+    before = u;
+    assert_true(isnan(mc_unwrap_step_f32(&u, -3.0f)));
+    assert_memory_equal(&u, &before, sizeof u);
+    u.turns = INT32_MIN;
+    u.prev_wrapped_rad = -3.0f;
+    before = u;
+    assert_true(isnan(mc_unwrap_step_f32(&u, 3.0f)));
+    assert_memory_equal(&u, &before, sizeof u);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_wrap_pi_range_and_error),
+        cmocka_unit_test(test_wrap_pi_is_exact_inside),
+        cmocka_unit_test(test_wrap_pi_rejects_out_of_range),
+        cmocka_unit_test(test_angle_diff),
+        cmocka_unit_test(test_sincos_error_bound),
+        cmocka_unit_test(test_sincos_exact_points_and_non_finite),
+        cmocka_unit_test(test_atan2_error_bound),
+        cmocka_unit_test(test_atan2_special_inputs),
+        cmocka_unit_test(test_unwrap_10000_turns_forward_and_backward),
+        cmocka_unit_test(test_unwrap_uniform_ramp_through_pi),
+        cmocka_unit_test(test_unwrap_non_finite_and_counter_limit),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,140 @@
+/*
+ * Encoder tracker (mc/encoder_tracker.h, firmware/observers/encoder_tracker.c)
+ * against an independent double-precision reference: multi-turn position,
+ * electrical angle, speed from the tracking PLL; the parameter ranges (CPR
+ * in [4, 2^23], the float-exactness limit).
+ */
+#include "mc_test.h"
+
+#include <math.h>
+
+#include "mc/encoder_tracker.h"
+
+#define TS 5e-5
+
+/* Constant speed through several turns, forward and back: the speed
+ * estimate converges, the multi-turn position is exact, theta_e follows
+ * n_p theta + offset. */
+static void test_encoder_tracker(void **state)
+{
+    (void)state;
+    const uint32_t cpr = 10000u, n_p = 3u;
+    const double offset = 0.4, w_pll = 1000.0;
+    mc_encoder_tracker_f32_t et;
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, cpr, n_p, (float)offset, (float)w_pll, (float)TS), MC_OK);
+    const double speeds[2] = { 37.0, -37.0 };
+    double theta = 1.0; /* true mechanical angle */
+    for (int leg = 0; leg < 2; ++leg) {
+        for (int k = 0; k < 20000; ++k) { /* 1 s: ~6 turns */
+            theta += speeds[leg] * TS;
+            const double turns = floor(theta / (MC_TEST_TWO_PI));
+            const uint32_t c =
+                (uint32_t)floor((theta - turns * MC_TEST_TWO_PI) * cpr / (MC_TEST_TWO_PI)) % cpr;
+            mc_encoder_estimate_t est;
+            assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
+            /* position within one count (+ half-count centring) */
+            assert_true(fabs((double)est.theta_m_rad - theta) <
+                        MC_TEST_TWO_PI / cpr + 1e-5 * fabs(theta) + 1e-6);
+            const double th_e = n_p * (c + 0.5) * MC_TEST_TWO_PI / cpr + offset;
+            const double d = remainder((double)est.theta_e_rad - th_e, MC_TEST_TWO_PI);
+            assert_true(fabs(d) < 2e-5);
+            assert_true(est.theta_e_rad <= MC_TEST_PI && est.theta_e_rad > -MC_TEST_PI);
+            if (k > 200) { /* 10 / w_pll after the start / reversal */
+                assert_true(fabs((double)est.omega_m_rad_s - speeds[leg]) <
+                            0.01 * fabs(speeds[leg]));
+            }
+        }
+    }
+    mc_encoder_estimate_t est;
+    assert_int_equal(mc_encoder_tracker_update_f32(&et, cpr, &est), MC_ERR_RANGE);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 2u, 3u, 0.0f, 100.0f, 5e-5f), MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, 3u, 0.0f, 20000.0f, 5e-5f),
+                     MC_ERR_PARAM);
+}
+
+/* Parameter ranges: cpr in [4, 2^23] (the largest cpr for which count + 0.5
+ * is exact in a float), pole pairs in [1, 64], |offset| <= 2 pi, w_pll Ts <= 0.5,
+ * non-finite values. */
+static void test_encoder_tracker_ranges(void **state)
+{
+    (void)state;
+    mc_encoder_tracker_f32_t et;
+    assert_int_equal(MC_ENCODER_CPR_MAX, 8388608u);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 3u, 3u, 0.0f, 100.0f, 5e-5f), MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 4u, 3u, 0.0f, 100.0f, 5e-5f), MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, MC_ENCODER_CPR_MAX, 3u, 0.0f, 100.0f, 5e-5f),
+                     MC_OK);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, MC_ENCODER_CPR_MAX + 1u, 3u, 0.0f, 100.0f, 5e-5f),
+        MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 0u, 0.0f, 100.0f, 5e-5f),
+                     MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 65u, 0.0f, 100.0f, 5e-5f),
+                     MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 64u, 0.0f, 100.0f, 5e-5f), MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 6.3f, 100.0f, 5e-5f),
+                     MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, -6.28f, 100.0f, 5e-5f), MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 0.0f, 5e-5f), MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 10000.0f, 5e-5f),
+                     MC_OK); /* w Ts = 0.5 */
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 10100.0f, 5e-5f),
+                     MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, 0.0f),
+                     MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, NAN, 100.0f, 5e-5f),
+                     MC_ERR_NONFINITE);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, INFINITY, 5e-5f),
+                     MC_ERR_NONFINITE);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, NAN),
+                     MC_ERR_NONFINITE);
+}
+
+/* At the largest CPR (2^23) the counts near the top are still in range and
+ * the angles are (c + 0.5) 2 pi / 2^23 to float rounding: c + 0.5 exact
+ * below 2^23; 2 pi / cpr in float to 2^-24 relative, 3.7e-7 rad over a
+ * turn; the product to half an ulp of ~2 pi, 2.4e-7 rad; the wrap to half an
+ * ulp of pi, 1.2e-7 rad: 7.3e-7 rad in all, under one count (7.5e-7 rad).
+ * The multi-turn position one count past a turn (2^23 + 0.5 rounds to an
+ * even number) adds at most half a count: within 1.5 counts. */
+static void test_encoder_tracker_cpr_max(void **state)
+{
+    (void)state;
+    const uint32_t cpr = MC_ENCODER_CPR_MAX;
+    mc_encoder_tracker_f32_t et;
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, 1u, 0.0f, 100.0f, 5e-5f), MC_OK);
+    const uint32_t counts[] = { cpr - 1u, 0u, 1u, cpr / 2u - 1u, cpr / 2u, cpr / 4u + 3u };
+    /* a jump of less than cpr/2 counts each time (the tracker's limit) */
+    mc_encoder_estimate_t est;
+    int64_t pos = -1; /* position in counts relative to the first */
+    uint32_t prev = counts[0];
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0]; ++i) {
+        const uint32_t c = counts[i];
+        int64_t d = (int64_t)c - (int64_t)prev;
+        if (d >= (int64_t)cpr / 2) {
+            d -= cpr;
+        } else if (d < -(int64_t)cpr / 2) {
+            d += cpr;
+        }
+        pos = (i == 0u) ? (int64_t)c : pos + d;
+        prev = c;
+        assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
+        const double th = ((double)c + 0.5) * MC_TEST_TWO_PI / cpr;
+        const double e = remainder((double)est.theta_e_rad - th, MC_TEST_TWO_PI);
+        assert_true(fabs(e) < 1.0 * MC_TEST_TWO_PI / cpr);
+        const double th_m = ((double)pos + 0.5) * MC_TEST_TWO_PI / cpr;
+        assert_true(fabs((double)est.theta_m_rad - th_m) < 1.5 * MC_TEST_TWO_PI / cpr);
+    }
+    assert_int_equal(mc_encoder_tracker_update_f32(&et, cpr, &est), MC_ERR_RANGE);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_encoder_tracker),
+        cmocka_unit_test(test_encoder_tracker_ranges),
+        cmocka_unit_test(test_encoder_tracker_cpr_max),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
