@@ -82,6 +82,29 @@ void mc_app_publish_telemetry(mc_app_t *app, const mc_telemetry_t *t)
     app->tlm_seq = app->tlm_seq + 1u; /* even: complete */
 }
 
+mc_status_t mc_app_fault_history(const mc_app_t *app, mc_fault_event_t *out,
+                                 uint32_t n, uint32_t *copied)
+{
+    for (uint32_t k = 0u; k < MC_TLM_READ_TRIES; ++k) {
+        const uint32_t s1 = app->history_seq;
+        atomic_signal_fence(memory_order_seq_cst);
+        const uint32_t count = app->history_count;
+        const uint32_t kept =
+            (count < MC_FAULT_HISTORY_LEN) ? count : MC_FAULT_HISTORY_LEN;
+        const uint32_t m = (n < kept) ? n : kept;
+        for (uint32_t j = 0u; j < m; ++j) {
+            out[j] = app->history[(count - 1u - j) % MC_FAULT_HISTORY_LEN];
+        }
+        atomic_signal_fence(memory_order_seq_cst);
+        if (s1 == app->history_seq && (s1 & 1u) == 0u) {
+            *copied = m;
+            return MC_OK;
+        }
+    }
+    *copied = 0u;
+    return MC_ERR_STATE;
+}
+
 const mc_timing_t *mc_app_timing(const mc_app_t *app)
 {
     return &app->timing;

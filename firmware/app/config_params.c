@@ -46,6 +46,17 @@ static const mc_param_t protection_params[] = {
     MC_PARAM(mc_fault_limits_t, i_offset_max_A, MC_PARAM_F32),
     MC_PARAM(mc_fault_limits_t, estimate_omega_max_rad_s, MC_PARAM_F32),
     MC_PARAM(mc_fault_limits_t, estimate_tau_max_Nm, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, overspeed_rad_s, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, stall_current_A, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, stall_speed_rad_s, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, stall_time_s, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, current_limit_A, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, current_limit_time_s, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, i2t_continuous_A, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, i2t_peak_A, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, i2t_peak_time_s, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, current_sum_max_A, MC_PARAM_F32),
+    MC_PARAM(mc_fault_limits_t, current_sum_time_s, MC_PARAM_F32),
     MC_PARAM_END,
 };
 
@@ -72,6 +83,17 @@ static const mc_param_t align_params[] = {
     MC_PARAM_END,
 };
 
+static const mc_param_t emf_check_params[] = {
+    MC_PARAM(mc_emf_check_config_t, filter_s, MC_PARAM_F32),
+    MC_PARAM(mc_emf_check_config_t, check_time_s, MC_PARAM_F32),
+    MC_PARAM(mc_emf_check_config_t, min_V, MC_PARAM_F32),
+    MC_PARAM(mc_emf_check_config_t, min_speed_e_rad_s, MC_PARAM_F32),
+    MC_PARAM(mc_emf_check_config_t, angle_max_rad, MC_PARAM_F32),
+    MC_PARAM(mc_emf_check_config_t, ratio_low, MC_PARAM_F32),
+    MC_PARAM(mc_emf_check_config_t, ratio_high, MC_PARAM_F32),
+    MC_PARAM_END,
+};
+
 static const mc_param_block_t blocks[] = {
     { "", 0u, top_params },
     { "motor", OFFSET(motor), motor_params },
@@ -82,6 +104,7 @@ static const mc_param_block_t blocks[] = {
     { "position", OFFSET(position), position_params },
     { "align", OFFSET(align), align_params },
     { "flux_obs", OFFSET(flux_obs), mc_flux_obs_params },
+    { "emf_check", OFFSET(emf_check), emf_check_params },
 #define MC_X_BLOCK(name, NAME) { #name, OFFSET(name), mc_ctl_##name##_params },
     MC_CONTROLLERS(MC_X_BLOCK)
 #undef MC_X_BLOCK

@@ -28,6 +28,17 @@ static mc_status_t drive_init(mc_drive_t *d, const mc_config_t *c,
         .decimation = tm->slow_decimation,
     };
     st = mc_outer_loop_init_f32(&d->outer, &op);
+    if (st != MC_OK) {
+        return st;
+    }
+    const mc_current_limit_params_t lp = {
+        .limit_A = c->protection.current_limit_A,
+        .R_ohm = c->motor.R_ohm,
+        .L_H = c->motor.Lq_H,
+        .bandwidth_rad_s = c->current.bandwidth_rad_s,
+        .Ts_s = tm->Ts_s,
+    };
+    st = mc_current_limit_init_f32(&d->limit, &lp);
     d->n_p = (float)c->motor.pole_pairs;
     d->v_d_last_V = 0.0f;
     d->v_q_last_V = 0.0f;
@@ -60,6 +71,19 @@ mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
         return MC_ERR_PARAM;
     }
     mc_status_t st = drive_init(&app->drive, cfg, tm);
+    if (st == MC_OK) {
+        st = mc_supervisor_init(&app->supervisor, &cfg->protection, tm);
+    }
+    if (st == MC_OK) {
+        const mc_emf_monitor_params_t ep = {
+            .R_ohm = cfg->motor.R_ohm,
+            .L_H = cfg->motor.Lq_H,
+            .psi_Wb = cfg->motor.psi_Wb,
+            .Ts_s = tm->Ts_s,
+            .filter_s = cfg->emf_check.filter_s,
+        };
+        st = mc_emf_check_init_f32(&app->emf, &cfg->emf_check, &ep);
+    }
     if (st == MC_OK) {
         st = mc_dispatch_estimator_init(app, cfg, tm);
     }

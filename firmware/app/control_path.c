@@ -59,6 +59,7 @@ void mc_app_start_run(mc_app_t *app)
     mc_drive_t *d = &app->drive;
     mc_current_loop_reset_f32(&d->current);
     mc_outer_loop_reset_f32(&d->outer);
+    mc_current_limit_reset_f32(&d->limit);
     d->v_d_last_V = 0.0f;
     d->v_q_last_V = 0.0f;
     mc_dispatch_controller_start(app);
@@ -84,6 +85,9 @@ uint32_t mc_app_run(mc_app_t *app, const mc_command_t *cmd,
     }
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
     uint32_t faults = mc_dispatch_controller_step(app, cmd, t);
+    /* Every controller's voltage under the measured-current limit. */
+    t->current_limited = mc_current_limit_step_f32(
+        &app->drive.limit, t->i_d_A, t->i_q_A, &t->v_d_V, &t->v_q_V);
     app->drive.v_d_last_V = t->v_d_V;
     app->drive.v_q_last_V = t->v_q_V;
     if (faults == MC_FAULT_NONE) {

@@ -1,7 +1,6 @@
 /* Estimator "encoder" (mc/est_encoder.h). */
 #include "mc/est_encoder.h"
 
-#include "mc/angle.h"
 #include "mc/config.h"
 
 const mc_param_t mc_est_encoder_params[] = {
@@ -33,15 +32,14 @@ mc_estimator_info_t mc_est_encoder_info(const mc_config_t *cfg)
 mc_status_t mc_est_encoder_init(mc_est_encoder_t *est, const mc_config_t *cfg,
                                 const mc_timing_t *tm)
 {
-    /* The count must move by less than cpr/2 per sample at the speed
-     * limit: omega_max Ts < pi (mechanical). */
-    if (!(cfg->limits.omega_max_rad_s * tm->Ts_s < MC_PI_F)) {
-        return MC_ERR_PARAM;
-    }
+    /* A plausible count step: at most twice the overspeed trip (the trip
+     * comes first; the rotor cannot double its speed within the PLL lag),
+     * under half a turn per sample (mc/encoder_tracker.h). */
     const mc_est_encoder_config_t *c = &cfg->encoder;
-    return mc_encoder_tracker_init_f32(&est->tracker, c->counts_per_rev,
-                                       cfg->motor.pole_pairs, c->offset_e_rad,
-                                       c->pll_bandwidth_rad_s, tm->Ts_s);
+    return mc_encoder_tracker_init_f32(
+        &est->tracker, c->counts_per_rev, cfg->motor.pole_pairs,
+        c->offset_e_rad, c->pll_bandwidth_rad_s,
+        2.0f * cfg->protection.overspeed_rad_s, tm->Ts_s);
 }
 
 void mc_est_encoder_hold(mc_est_encoder_t *est, float theta_e_rad)

@@ -3,6 +3,7 @@
  * calibration and the fault latching (see mc/app.h). The control path of
  * RUN and ALIGN is control_path.c. */
 #include <math.h>
+#include <stdatomic.h>
 
 #include "app_internal.h"
 #include "dispatch.h"
@@ -23,13 +24,43 @@ static void outputs_off(void)
     hal_gpio_power_stage_enable(false);
 }
 
-/* Latch faults; from any other state the PWM goes off right here. */
-static void raise_faults(mc_app_t *app, uint32_t faults)
+/* Record a fault event (the history ring, sequence counter odd while
+ * writing: mc_app_fault_history). */
+static void record_fault(mc_app_t *app, uint32_t new_bits,
+                         const mc_telemetry_t *t)
 {
-    if (faults == MC_FAULT_NONE) {
+    app->history_seq = app->history_seq + 1u;
+    atomic_signal_fence(memory_order_seq_cst);
+    mc_fault_event_t *ev =
+        &app->history[app->history_count % MC_FAULT_HISTORY_LEN];
+    ev->isr_count = app->isr_count;
+    ev->faults = new_bits;
+    ev->state = app->state;
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        ev->i_abc_A[k] = t->i_abc_A[k];
+    }
+    ev->v_dc_V = t->v_dc_V;
+    ev->omega_m_rad_s = t->omega_m_rad_s;
+    app->history_count = app->history_count + 1u;
+    atomic_signal_fence(memory_order_seq_cst);
+    app->history_seq = app->history_seq + 1u;
+}
+
+/* Latch faults; from any other state the PWM goes off right here (the
+ * reaction: coast, mc/app.h). New bits are recorded, the first ones since
+ * the last clear kept as the first fault. */
+static void raise_faults(mc_app_t *app, uint32_t faults,
+                         const mc_telemetry_t *t)
+{
+    const uint32_t new_bits = faults & ~app->faults_latched;
+    if (new_bits == MC_FAULT_NONE) {
         return;
     }
-    app->faults_latched |= faults;
+    if (app->faults_latched == MC_FAULT_NONE) {
+        app->first_fault = new_bits;
+    }
+    app->faults_latched |= new_bits;
+    record_fault(app, new_bits, t);
     if (app->state != MC_STATE_FAULT) {
         outputs_off();
         app->state = MC_STATE_FAULT;
@@ -46,6 +77,35 @@ static uint32_t estimate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
                         t->tau_L_hat_Nm };
     return faults |
            (mc_all_finite_f32(e, 4u) ? MC_FAULT_NONE : MC_FAULT_NONFINITE);
+}
+
+/* The estimate against the measured back-EMF (mc/emf_monitor.h), in RUN:
+ * a sensorless estimate that turns while the rotor does not is
+ * LOSS_OF_LOCK; an encoder that slipped or froze is ENCODER. fr->s, fr->c:
+ * the sine and cosine of the estimate's angle. */
+static uint32_t check_estimate(mc_app_t *app, const mc_frame_t *fr,
+                               const mc_telemetry_t *t, bool running)
+{
+    if (!running) {
+        mc_emf_check_reset_f32(&app->emf);
+        return MC_FAULT_NONE;
+    }
+    float v_al;
+    float v_be;
+    mc_applied_voltage_last_f32(&app->v_applied, &v_al, &v_be);
+    const float w_e = app->drive.n_p * t->omega_m_rad_s;
+    if (app->est_info.sensorless) {
+        return mc_emf_check_sensorless_f32(&app->emf, fr->in.i_alpha_A,
+                                           fr->in.i_beta_A, v_al, v_be, fr->s,
+                                           fr->c, w_e)
+                   ? MC_FAULT_LOSS_OF_LOCK
+                   : MC_FAULT_NONE;
+    }
+    return mc_emf_check_encoder_f32(&app->emf, fr->in.i_alpha_A,
+                                    fr->in.i_beta_A, v_al, v_be, fr->s, fr->c,
+                                    w_e)
+               ? MC_FAULT_ENCODER
+               : MC_FAULT_NONE;
 }
 
 /* Offset calibration with the PWM off: average calib_samples raw samples. */
@@ -103,27 +163,28 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
         if (!cmd->enable) {
             app->state = MC_STATE_IDLE;
         } else {
-            raise_faults(app, calibrate(app, i_raw_A));
+            raise_faults(app, calibrate(app, i_raw_A), t);
         }
         break;
     case MC_STATE_ALIGN:
         if (!cmd->enable) {
             app->state = MC_STATE_IDLE;
         } else {
-            raise_faults(app, mc_app_align(app, fr, t));
+            raise_faults(app, mc_app_align(app, fr, t), t);
         }
         break;
     case MC_STATE_RUN:
         if (!cmd->enable) {
             app->state = MC_STATE_IDLE;
         } else {
-            raise_faults(app, mc_app_run(app, cmd, fr, t));
+            raise_faults(app, mc_app_run(app, cmd, fr, t), t);
         }
         break;
     case MC_STATE_FAULT:
     default:
         if (clear_edge && active == MC_FAULT_NONE) {
             app->faults_latched = MC_FAULT_NONE;
+            app->first_fault = MC_FAULT_NONE;
             app->state = MC_STATE_IDLE;
         }
         break;
@@ -175,7 +236,12 @@ void mc_app_fast_isr(mc_app_t *app)
     mc_sincos_f32(t.theta_e_rad, &fr.s, &fr.c);
     mc_park_f32(fr.in.i_alpha_A, fr.in.i_beta_A, fr.s, fr.c, &t.i_d_A,
                 &t.i_q_A);
-    raise_faults(app, active);
+    const bool running = (app->state == MC_STATE_RUN);
+    active |= mc_supervisor_step(
+        &app->supervisor, &t, running, running || app->state == MC_STATE_ALIGN,
+        mc_current_limit_active_f32(&app->drive.limit));
+    active |= check_estimate(app, &fr, &t, running);
+    raise_faults(app, active, &t);
 
     /* Transitions, calibration, control. */
     state_machine(app, cmd, adc.i_abc_A, active, &fr, &t);
@@ -210,7 +276,7 @@ void mc_app_fast_isr(mc_app_t *app)
         app->overrun_streak++;
         if (app->overrun_streak >= app->timing.isr_overrun_limit) {
             active |= MC_FAULT_ISR_OVERRUN;
-            raise_faults(app, MC_FAULT_ISR_OVERRUN);
+            raise_faults(app, MC_FAULT_ISR_OVERRUN, &t);
         }
     } else {
         app->overrun_streak = 0u;
@@ -221,6 +287,7 @@ void mc_app_fast_isr(mc_app_t *app)
     t.state = app->state;
     t.mode = cmd->mode;
     t.faults_latched = app->faults_latched;
+    t.first_fault = app->first_fault;
     t.faults_active = active;
     t.outputs_enabled = hal_pwm_outputs_enabled();
     t.isr_cost_s = app->isr_cost_s;

@@ -10,7 +10,18 @@ mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits)
                         limits->v_dc_min_V,
                         limits->i_offset_max_A,
                         limits->estimate_omega_max_rad_s,
-                        limits->estimate_tau_max_Nm };
+                        limits->estimate_tau_max_Nm,
+                        limits->overspeed_rad_s,
+                        limits->stall_current_A,
+                        limits->stall_speed_rad_s,
+                        limits->stall_time_s,
+                        limits->current_limit_A,
+                        limits->current_limit_time_s,
+                        limits->i2t_continuous_A,
+                        limits->i2t_peak_A,
+                        limits->i2t_peak_time_s,
+                        limits->current_sum_max_A,
+                        limits->current_sum_time_s };
     if (!mc_all_finite_f32(f, (uint32_t)(sizeof f / sizeof f[0]))) {
         return MC_ERR_NONFINITE;
     }
@@ -18,7 +29,18 @@ mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits)
         !(limits->v_dc_min_V < limits->v_dc_max_V) ||
         !(limits->i_offset_max_A > 0.0f) ||
         !(limits->estimate_omega_max_rad_s > 0.0f) ||
-        !(limits->estimate_tau_max_Nm > 0.0f)) {
+        !(limits->estimate_tau_max_Nm > 0.0f) ||
+        !(limits->overspeed_rad_s > 0.0f) ||
+        !(limits->stall_current_A > 0.0f) ||
+        !(limits->stall_speed_rad_s > 0.0f) || !(limits->stall_time_s > 0.0f) ||
+        !(limits->current_limit_A > 0.0f) ||
+        !(limits->current_limit_A < limits->i_trip_A) ||
+        !(limits->current_limit_time_s > 0.0f) ||
+        !(limits->i2t_continuous_A > 0.0f) ||
+        !(limits->i2t_peak_A > limits->i2t_continuous_A) ||
+        !(limits->i2t_peak_time_s > 0.0f) ||
+        !(limits->current_sum_max_A > 0.0f) ||
+        !(limits->current_sum_time_s > 0.0f)) {
         return MC_ERR_PARAM;
     }
     return MC_OK;

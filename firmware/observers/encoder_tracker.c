@@ -9,21 +9,27 @@
 mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
                                         uint32_t cpr, uint32_t pole_pairs,
                                         float offset_e_rad, float w_pll_rad_s,
-                                        float Ts_s)
+                                        float step_speed_max_rad_s, float Ts_s)
 {
-    if (!isfinite(offset_e_rad) || !isfinite(w_pll_rad_s) || !isfinite(Ts_s)) {
+    if (!isfinite(offset_e_rad) || !isfinite(w_pll_rad_s) || !isfinite(Ts_s) ||
+        !isfinite(step_speed_max_rad_s)) {
         return MC_ERR_NONFINITE;
     }
     if (cpr < MC_ENCODER_CPR_MIN || cpr > MC_ENCODER_CPR_MAX ||
         pole_pairs < 1u || pole_pairs > MC_MOTOR_POLE_PAIRS_MAX ||
         fabsf(offset_e_rad) > MC_TWO_PI_F || !(w_pll_rad_s > 0.0f) ||
-        !(Ts_s > 0.0f) || w_pll_rad_s * Ts_s > MC_ENCODER_PLL_WTS_MAX) {
+        !(Ts_s > 0.0f) || w_pll_rad_s * Ts_s > MC_ENCODER_PLL_WTS_MAX ||
+        !(step_speed_max_rad_s > 0.0f) ||
+        !(step_speed_max_rad_s * Ts_s < MC_PI_F)) {
         return MC_ERR_PARAM;
     }
     et->cpr = cpr;
     et->pole_pairs = pole_pairs;
     et->offset_e_rad = offset_e_rad;
     et->rad_per_count = MC_TWO_PI_F / (float)cpr;
+    /* < cpr / 2 + 2 (step_speed_max Ts < pi): no overflow */
+    et->step_max_counts =
+        (uint32_t)ceilf(step_speed_max_rad_s * Ts_s / et->rad_per_count) + 1u;
     /* Critically damped PLL: s^2 + kp s + ki = (s + w)^2. */
     et->kp_per_s = 2.0f * w_pll_rad_s;
     et->ki_Ts_per_s = w_pll_rad_s * w_pll_rad_s * Ts_s; /* ki Ts, once */
@@ -63,6 +69,11 @@ mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et,
     }
     et->position_counts += delta;
     et->last_count = count;
+    const uint64_t step = (uint64_t)(delta < 0 ? -delta : delta);
+    out->count_jump = step > (uint64_t)et->step_max_counts;
+    if (out->count_jump) {
+        et->theta_hat_rad = theta_meas; /* follow it (header) */
+    }
 
     /* Angle-tracking PLL (header): speed = integral branch. */
     const float e = mc_angle_diff_f32(theta_meas, et->theta_hat_rad);

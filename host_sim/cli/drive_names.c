@@ -28,6 +28,12 @@ static const struct {
     { MC_FAULT_CALIBRATION, "calibration" },
     { MC_FAULT_ENCODER, "encoder" },
     { MC_FAULT_ESTIMATE, "estimate" },
+    { MC_FAULT_OVERSPEED, "overspeed" },
+    { MC_FAULT_STALL, "stall" },
+    { MC_FAULT_I2T, "i2t" },
+    { MC_FAULT_CURRENT_SENSOR, "current_sensor" },
+    { MC_FAULT_LOSS_OF_LOCK, "loss_of_lock" },
+    { MC_FAULT_CURRENT_LIMIT, "current_limit" },
 };
 
 #define N_FAULT_NAMES (sizeof(fault_names) / sizeof(fault_names[0]))

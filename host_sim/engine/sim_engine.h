@@ -2,9 +2,12 @@
  * sim_engine.h - closed-loop simulation: plant + host HAL + drive firmware.
  *
  * One sim_engine_step() is one PWM period k (t_k = k Ts):
- *   0. the command goes to the firmware (mc_app_set_command);
+ *   0. the command goes to the firmware (mc_app_set_command); the plant's
+ *      runtime faults are set to what the plant-side injections active at
+ *      t_k say (plant_set_*: they act from this period's advance on);
  *   1. plant_sample(): currents, v_dc, encoder at the PWM centre t_k;
- *   2. active fault injections edit that measurement / the fault input;
+ *   2. active measurement-side injections edit that measurement / the
+ *      fault input;
  *   3. the host HAL mailbox gets the sample, the firmware fast ISR runs;
  *   4. the plant advances over [t_k, t_k + Ts). The duties latch at the
  *      inverter's update event (plant inverter.duty_update):
@@ -27,7 +30,7 @@
  * an injection is active for t_start_s <= t_k < t_end_s.
  *
  * Host only (C11, double precision, no allocation: the caller owns the
- * engine, about 5 kB, plant included; allocate it statically or on the
+ * engine, about 6.5 kB, plant included; allocate it statically or on the
  * heap). Single-threaded per engine; several engines may be stepped in turn
  * from one thread (each step binds its own HAL mailbox).
  */
@@ -50,7 +53,8 @@
 typedef enum {
     SIM_ENGINE_OK = 0,
     SIM_ENGINE_ERR_NULL = -1,
-    SIM_ENGINE_ERR_PLANT = -2,     /* plant_init failed (see the message) */
+    SIM_ENGINE_ERR_PLANT = -2,     /* plant_init failed, or the plant refused
+                                      a plant-side fault (see the message) */
     SIM_ENGINE_ERR_MISMATCH = -3,  /* plant and firmware disagree (PWM
                                       frequency, encoder cpr) */
     SIM_ENGINE_ERR_FIRMWARE = -4,  /* mc_app_init failed */
@@ -59,21 +63,89 @@ typedef enum {
     SIM_ENGINE_ERR_STATE = -7      /* step on an engine whose init failed */
 } sim_engine_err_t;
 
+/* Measurement-side kinds (CURRENT_*, VDC_MEASURED, FAULT_INPUT, ENCODER_*)
+ * edit what the HAL reports (the measurement of step 2); the plant itself
+ * is untouched. Several active ones are applied in the order they were
+ * added, each to the measurement as the earlier ones left it (a
+ * current_offset after a current_stuck adds to the stuck value; an
+ * encoder_frozen holds whatever count reached it). The encoder kinds edit
+ * the count only, in the counts the HAL reports (cpr = 4 x plant encoder
+ * lines, 0..cpr-1); the index flag stays the plant's (the firmware does
+ * not use the index).
+ * Plant-side kinds (PHASE_OPEN, ROTOR_LOCK, BUS_SOURCE_LOSS) change the
+ * plant through plant_set_phase_open / _rotor_locked / _source_connected
+ * for the periods [t_k, t_k + Ts) whose sample t_k is in their window (the
+ * true state shows the change from the next sample on). Outside every
+ * window the plant is in its normal state: phases connected, the rotor
+ * free (locked throughout if the plant config says locked_rotor), the
+ * source connected. Overlapping windows of one fault add up (a phase is
+ * open while any of its phase_open injections is active). */
 typedef enum {
-    SIM_INJECT_CURRENT_NAN = 0, /* measured current of `phase` := NaN */
-    SIM_INJECT_CURRENT_OFFSET,  /* measured current of `phase` += value (A):
-                                   a sensor spike / fault */
-    SIM_INJECT_VDC_MEASURED,    /* measured v_dc := value (V) */
-    SIM_INJECT_FAULT_INPUT      /* external fault / STO input asserted */
+    SIM_INJECT_CURRENT_NAN = 0,     /* measured current of `phase` := NaN */
+    SIM_INJECT_CURRENT_OFFSET,      /* measured current of `phase` += value (A):
+                                       a sensor spike / fault */
+    SIM_INJECT_VDC_MEASURED,        /* measured v_dc := value (V) */
+    SIM_INJECT_FAULT_INPUT,         /* external fault / STO input asserted */
+    SIM_INJECT_ENCODER_SLIP,        /* count := (count + slip) mod cpr, a slipped
+                                       code wheel or a lost index correction:
+                                       slip = round(angle_e_rad / n_p * cpr /
+                                       (2 pi)) counts (n_p: the plant's pole
+                                       pairs; round half away from zero);
+                                       negative angles slip backwards */
+    SIM_INJECT_ENCODER_FROZEN,      /* count := the count at the first active
+                                       sample (a seized encoder, a cut cable
+                                       with held inputs) */
+    SIM_INJECT_ENCODER_COUNT_LOSS,  /* lost counts: from the first active
+                                       sample the count advances by
+                                       (1 - lost_fraction) of each increment
+                                       of the count (accumulated in whole
+                                       counts plus a fractional remainder,
+                                       rounded down, mod cpr); increments are
+                                       taken modulo cpr as the shorter way
+                                       round (less than half a turn per
+                                       period) */
+    SIM_INJECT_CURRENT_OFFSET_RAMP, /* measured current of `phase` +=
+                                       rate_A_s * (t_k - t_start_s): an
+                                       offset drifting from 0 at t_start */
+    SIM_INJECT_CURRENT_STUCK,       /* measured current of `phase` := value
+                                       (A): a stuck sensor or ADC channel */
+    SIM_INJECT_PHASE_OPEN,          /* phase terminal `phase` disconnected */
+    SIM_INJECT_ROTOR_LOCK,          /* a shaft brake holds the rotor */
+    SIM_INJECT_BUS_SOURCE_LOSS      /* the DC source is disconnected from the
+                                       link (needs a link capacitance) */
 } sim_inject_kind_t;
 
 typedef struct {
     sim_inject_kind_t kind;
-    double t_start_s; /* active for t_start_s <= t_k < t_end_s */
-    double t_end_s;   /* may be INFINITY */
-    uint32_t phase;   /* 0, 1, 2 (a, b, c) for the current kinds */
-    double value;     /* A or V, see the kind */
+    double t_start_s;     /* active for t_start_s <= t_k < t_end_s */
+    double t_end_s;       /* may be INFINITY */
+    uint32_t phase;       /* 0, 1, 2 (a, b, c): CURRENT_NAN, CURRENT_OFFSET,
+                             CURRENT_OFFSET_RAMP, CURRENT_STUCK,
+                             PHASE_OPEN */
+    double value;         /* A or V: CURRENT_OFFSET, VDC_MEASURED,
+                             CURRENT_STUCK */
+    double angle_e_rad;   /* ENCODER_SLIP: electrical rad */
+    double lost_fraction; /* ENCODER_COUNT_LOSS: in (0, 1) */
+    double rate_A_s;      /* CURRENT_OFFSET_RAMP: A/s */
 } sim_injection_t;
+
+/* Private: what an injection carries from sample to sample. */
+typedef struct {
+    bool started;            /* active at an earlier sample */
+    uint32_t count;          /* ENCODER_SLIP: slip (0..cpr-1);
+                                ENCODER_FROZEN: the held count;
+                                ENCODER_COUNT_LOSS: the reported count */
+    uint32_t count_in;       /* ENCODER_COUNT_LOSS: the count it received at
+                                the previous sample */
+    double remainder_counts; /* ENCODER_COUNT_LOSS: [0, 1) */
+} sim_injection_state_t;
+
+/* Private: the plant-side faults as the engine last set them. */
+typedef struct {
+    bool phase_open[3];
+    bool rotor_locked;
+    bool source_connected;
+} sim_plant_faults_t;
 
 /* Everything about PWM period k. */
 typedef struct {
@@ -99,8 +171,14 @@ typedef struct {
     hal_sim_mailbox_t mailbox;
     double duty_next[3]; /* latched by the last ISR */
     bool outputs_next;
-    bool half_period_update; /* plant inverter.duty_update */
+    bool half_period_update;         /* plant inverter.duty_update */
+    uint32_t pole_pairs;             /* the plant's (encoder_slip) */
+    bool dc_link_capacitive;         /* plant dc_link.capacitance_F > 0
+                                        (bus_source_loss) */
+    sim_plant_faults_t plant_normal; /* outside every window */
+    sim_plant_faults_t plant_faults; /* in effect from the last step */
     sim_injection_t injections[SIM_ENGINE_MAX_INJECTIONS];
+    sim_injection_state_t injection_state[SIM_ENGINE_MAX_INJECTIONS];
     uint32_t n_injections;
     uint64_t k;
     sim_trace_sample_t last;
@@ -110,7 +188,10 @@ typedef struct {
 
 /* The firmware values the bench takes from the plant: the nominal motor
  * (the controller's model; the plant applies its mismatch), the PWM rate
- * and the encoder resolution (4 x lines). The rest of *fw is kept.
+ * and the encoder resolution (4 x lines); and the one the host sets: the
+ * ISR-overrun fault after MC_TIMING_OVERRUN_LIMIT_MAX periods over budget
+ * in a row (the ISR runs on host CPU time, see sim_engine.c). The rest of
+ * *fw is kept.
  * Call after mc_config_init_default() (or on any configuration). */
 void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw);
 
@@ -122,15 +203,23 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
 /* Static sentence about the last init/add/step result ("ok"). */
 const char *sim_engine_message(const sim_engine_t *e);
 
-/* Add a fault injection (before or between steps). Rejects a non-finite
- * start, end < start, a phase > 2 for current kinds, a non-finite value
- * (except for SIM_INJECT_CURRENT_NAN, whose value is unused), an unknown
- * kind, or a full table: SIM_ENGINE_ERR_INJECTION. */
+/* Add a fault injection to an initialised engine, before or between steps
+ * (one whose start has passed is active from the next sample on). Rejects
+ * (SIM_ENGINE_ERR_INJECTION, the message names the field): a non-finite
+ * start, end < start (or NaN), a phase > 2 for the current kinds, a
+ * non-finite value (CURRENT_OFFSET, VDC_MEASURED, CURRENT_STUCK),
+ * angle_e_rad (ENCODER_SLIP) or rate_A_s (CURRENT_OFFSET_RAMP), a
+ * lost_fraction outside (0, 1), an encoder kind on a plant without encoder
+ * (lines 0), a phase > 2 for PHASE_OPEN, a BUS_SOURCE_LOSS on a stiff bus
+ * (dc_link.capacitance_F 0), an unknown kind, or a full table.
+ * SIM_ENGINE_ERR_STATE on an engine whose init failed. */
 int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj);
 
 /* Simulate one PWM period with this command (see the top of this file).
  * SIM_ENGINE_ERR_COMMAND: unknown mode; nothing changes (the period is NOT
- * simulated, the sensors are not sampled, sim_engine_last() is kept). */
+ * simulated, the sensors are not sampled, sim_engine_last() is kept).
+ * SIM_ENGINE_ERR_PLANT: the plant refused a plant-side fault (the message
+ * is the plant's); the period is not simulated. */
 int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd);
 
 /* The trace sample of the latest step (valid until the next step). */

@@ -38,17 +38,79 @@
  * dead_time_current_band_A > 0 (a linear zone that models the current
  * ripple crossing zero). The star point floats: phase voltages are
  * v_x = v_term_x - mean(v_term_a, v_term_b, v_term_c).
- * Duties are clamped to [0, 1]. v_dc is evaluated once per period at the
- * period centre and held (average model).
- * Outputs disabled (all six switches off): each phase current freewheels
- * through a diode: i_x > 0 sees the negative rail (v_term = 0), i_x < 0 the
- * positive one (v_term = v_dc), so the currents are driven to zero against
- * the bus. Once every |i_x| is below the change one substep can make
- * (2 v_dc h / min(Ld, Lq)), the currents are set to exactly zero and stay
- * zero ("open circuit") while disabled. This model does NOT include diode
- * rectification of a back-EMF larger than the bus: if, while open, the peak
- * line back-EMF sqrt(3) psi |omega_e| exceeds v_dc, the state flag
- * rectification_unmodelled is set (sticky) so a scenario can report it.
+ * Duties are clamped to [0, 1]. A stiff v_dc is evaluated once per period at
+ * the period centre and held (average model; see DC link).
+ * Outputs disabled (all six switches off): a six-diode bridge. Each phase
+ * terminal reaches the + rail through its upper diode (conducting while the
+ * current flows out of the motor, i_x < 0: v_term_x = v_dc + v_f) and the
+ * - rail through its lower diode (i_x > 0: v_term_x = -v_f), v_f =
+ * v_device_drop_V (0 = ideal diodes). Per phase the conduction state
+ * (plant_phase_state_t) is part of the plant state:
+ *   all three conducting: the terminal voltages are known; the dq model
+ *     above gives di/dt;
+ *   one phase x blocking (i_x = 0), the other two conducting: x's terminal
+ *     floats at the voltage u that keeps di_x/dt = 0. u enters v_d, v_q
+ *     linearly (through v_x - mean(v_term)), so di_x/dt = 0 with
+ *       i_x = c_x i_d - s_x i_q,  c_x = cos(theta_e - 2 pi k/3),
+ *       s_x = sin(theta_e - 2 pi k/3) (k = 0, 1, 2 for a, b, c),
+ *       di_x/dt = c_x di_d/dt - s_x di_q/dt - omega_e (s_x i_d + c_x i_q)
+ *     is one linear equation in u, with the coefficient
+ *     (2/3) (c_x^2 / Ld + s_x^2 / Lq) > 0 (salient machines included);
+ *   two or three blocking: all currents are zero; the phases show the
+ *     back-EMF (v_d = 0, v_q = omega_e psi).
+ * Mode changes (events, each located inside the RK4 substep by Illinois
+ * regula falsi on the step length, to 1e-9 of a substep, and applied on the
+ * far side of the crossing):
+ *   a conducting phase whose current reaches zero blocks (its current is
+ *     set to exactly zero: a diode does not conduct backwards);
+ *   the blocking phase of the one-blocking mode starts to conduct when u
+ *     leaves [-v_f, v_dc + v_f] (below: lower diode, above: upper diode);
+ *   with all currents zero, conduction starts in the pair y, z of connected
+ *     phases with the largest line back-EMF |e_y - e_z| once it exceeds
+ *     v_dc + 2 v_f (the higher one on the upper diode).
+ * While a phase floats the state is projected after every substep onto
+ * i_x = 0 (the other two carry +I and -I exactly); the true state reports
+ * floating phases with exactly 0 A. On entering the diode mode (outputs
+ * switched off) each phase takes the diode of its current's sign (a zero
+ * current blocks). The bridge draws i_bridge = sum of the currents of the
+ * phases on the upper diode from the + rail (negative: rectifying into the
+ * link); switching, the average model draws sum d_x i_x.
+ *
+ * ---- DC link (plant_dc_link_t) ---------------------------------------------
+ * capacitance_F == 0: a stiff bus, v_dc = inverter.v_dc_V evaluated at the
+ * middle of each period and held over it (it sources and sinks any current).
+ * capacitance_F > 0: the link voltage v is a state (RK4 with the others),
+ *   C dv/dt = i_source - i_bridge - i_brake,
+ *   i_source = max(0, (v_s(t) - v) / R_s) while the source is connected (a
+ *     series diode: the source cannot sink current), v_s = inverter.v_dc_V
+ *     evaluated at each RK4 stage (on the piece of the step's midpoint);
+ *   i_brake = v / R_b while the brake chopper is on: a hysteresis shunt
+ *     regulator, on once v > brake_on_V, off once v < brake_off_V (events,
+ *     located like the bridge's); initially on iff v0 > brake_on_V;
+ *   v(0) = v0_V if v0_given, else max(v_s(0), 0).
+ * The switching model then uses the instantaneous v in d_x v and in the
+ * dead-time error t_dead f_pwm v. A link driven below -v_f (the drive still
+ * drawing current with its source lost) is clamped there by the inverter
+ * legs (a switch and the opposite leg diode from the - to the + rail): the
+ * legs carry i_clamp = i_bridge + i_brake - i_source >= 0, dv/dt = 0, until
+ * i_clamp returns to zero (events as above).
+ *
+ * ---- Runtime faults ---------------------------------------------------------
+ * plant_set_phase_open, plant_set_rotor_locked, plant_set_source_connected
+ * (below) take effect at the start of the next advance. Instantaneous
+ * changes they imply (the current of a phase that opens, the kinetic energy
+ * of a rotor that locks) and the residuals of the zero-current clamps leave
+ * the state without passing through the integrated power flows: their
+ * energy is counted in plant_energy_t.constraint_J.
+ *
+ * ---- Energy balance (plant_energy_t) ---------------------------------------
+ *   electrical_J = copper_J + friction_J + load_J + cogging_J + constraint_J
+ *                  + change of 0.75 (Ld i_d^2 + Lq i_q^2) + change of
+ *                  0.5 J omega_m^2 (J with mismatch; constant inertia);
+ *   bus_J - electrical_J = inverter losses (dead time, device drops);
+ *   with a capacitance:
+ *   source_J = source_resistor_J + capacitor_J + brake_J + bus_J
+ *              + link_clamp_J.
  *
  * ---- Sensors (plant_sample) -----------------------------------------------
  * Currents: i_meas_x = Q(gain_x * i_x + offset_x + n_x), n_x ~ N(0, rms^2)
@@ -124,6 +186,17 @@ typedef struct {
     double dead_time_current_band_A; /* 0 = hard sign(i) */
 } plant_inverter_params_t;
 
+/* The DC link behind the inverter (model in the notes above). */
+typedef struct {
+    double capacitance_F;         /* 0 = stiff bus (the default) */
+    double source_resistance_ohm; /* > 0 with a capacitance, else 0 */
+    double brake_resistance_ohm;  /* 0 = no brake chopper; needs a capacitance */
+    double brake_on_V;            /* > brake_off_V with a brake, else 0 */
+    double brake_off_V;           /* >= 0 with a brake, else 0 */
+    bool v0_given;                /* false: v(0) = max(source voltage at t = 0, 0) */
+    double v0_V;                  /* initial link voltage, >= 0 (capacitance only) */
+} plant_dc_link_t;
+
 typedef struct {
     double gain[3]; /* per phase, 1 = ideal */
     double offset_A[3];
@@ -156,6 +229,7 @@ typedef struct {
     plant_motor_params_t motor;
     plant_mismatch_t mismatch;
     plant_inverter_params_t inverter;
+    plant_dc_link_t dc_link;
     plant_sensor_params_t sensors;
     sim_profile_t load_torque_Nm; /* opposes positive rotation when > 0 */
     /* Classic RK4 steps per PWM period. PLANT_DEFAULT_SUBSTEPS (1 us at
@@ -166,19 +240,39 @@ typedef struct {
      * dead-time model the zero crossings are discontinuities that no fixed
      * step resolves: both step sizes then chatter around i = 0 differently. */
     uint32_t substeps_per_period;
-    bool locked_rotor; /* omega_m held at 0, theta_m at theta_m0 */
+    bool locked_rotor; /* initial state of plant_set_rotor_locked (omega_m0 ignored) */
     double theta_m0_rad;
     double omega_m0_rad_s;
 } plant_config_t;
 
-typedef struct {         /* all in J, integrated with the state (RK4) from t = 0 */
-    double bus_J;        /* int v_dc * sum d_x i_x dt (drawn from the bus) */
-    double electrical_J; /* int sum v_x i_x dt  (into the motor terminals) */
-    double copper_J;     /* int 1.5 R (i_d^2 + i_q^2) dt */
-    double friction_J;   /* int omega_m (B omega_m + tau_coul) dt */
-    double load_J;       /* int omega_m tau_load dt */
-    double cogging_J;    /* int omega_m tau_cog dt */
+/* Energies [J] since t = 0, integrated with the state (RK4) unless noted;
+ * the balances they close are in the notes above. */
+typedef struct {
+    double bus_J;             /* int v_dc i_bridge dt, drawn by the bridge from the link
+                               * (< 0: regenerated); plant_advance_vdq periods add the
+                               * ideal source's 1.5 (v_d i_d + v_q i_q) instead */
+    double electrical_J;      /* int sum v_x i_x dt  (into the motor terminals) */
+    double copper_J;          /* int 1.5 R (i_d^2 + i_q^2) dt */
+    double friction_J;        /* int omega_m (B omega_m + tau_coul) dt */
+    double load_J;            /* int omega_m tau_load dt */
+    double cogging_J;         /* int omega_m tau_cog dt */
+    double source_J;          /* int v_s i_source dt; stiff bus: bus_J */
+    double source_resistor_J; /* int R_s i_source^2 dt; stiff bus: 0 */
+    double capacitor_J;       /* 0.5 C (v^2 - v(0)^2), from the state; stiff bus: 0 */
+    double brake_J;           /* int v i_brake dt; stiff bus: 0 */
+    double link_clamp_J;      /* int -v i_clamp dt in the inverter legs; stiff bus: 0 */
+    double constraint_J;      /* removed by instantaneous changes (see the notes), summed
+                               * when they happen (not integrated) */
 } plant_energy_t;
+
+/* Conduction state of one phase terminal. */
+typedef enum {
+    PLANT_PHASE_DRIVEN = 0,  /* outputs on: the leg switches (or the ideal dq source) */
+    PLANT_PHASE_BLOCKING,    /* outputs off, both diodes off: i = 0, terminal floats */
+    PLANT_PHASE_UPPER_DIODE, /* outputs off, i < 0 to the + rail: v_term = v_dc + v_f */
+    PLANT_PHASE_LOWER_DIODE, /* outputs off, i > 0 from the - rail: v_term = -v_f */
+    PLANT_PHASE_OPEN         /* terminal disconnected (plant_set_phase_open): i = 0 */
+} plant_phase_state_t;
 
 typedef struct {
     double t_s;
@@ -192,10 +286,20 @@ typedef struct {
     double tau_cog_Nm;
     double tau_friction_Nm; /* B omega + Coulomb */
     double v_abc_V[3];      /* phase voltages averaged over the last period */
-    double v_dc_V;          /* bus voltage held during the last period */
+    double v_dc_V;          /* link voltage now (stiff bus: held during the last period) */
+    double v_source_V;      /* source voltage inverter.v_dc_V at t_s (stiff bus: v_dc_V) */
+    double i_source_A;      /* into the link from the source (stiff bus: i_bridge_A) */
+    double i_bridge_A;      /* drawn by the bridge from the + rail (< 0: rectifying) */
+    double i_brake_A;       /* through the brake resistor */
+    bool brake_on;
+    bool link_clamped; /* the link held at -v_f by the inverter legs (see notes) */
     bool outputs_enabled;
-    bool open_circuit;             /* disabled and currents extinguished */
-    bool rectification_unmodelled; /* see the inverter notes above */
+    plant_phase_state_t phase_state[3];
+    bool rectifying;       /* outputs off and some phase conducting through a diode */
+    bool open_circuit;     /* outputs off and no phase conducting: all currents zero */
+    bool phase_open[3];    /* plant_set_phase_open in effect */
+    bool rotor_locked;     /* plant_set_rotor_locked in effect */
+    bool source_connected; /* plant_set_source_connected in effect (stiff bus: true) */
     plant_energy_t energy;
 } plant_true_state_t;
 
@@ -214,12 +318,22 @@ typedef enum {
     PLANT_ERR_MISMATCH = -3, /* multiplier not finite and > 0 */
     PLANT_ERR_INVERTER = -4,
     PLANT_ERR_SENSOR = -5,
-    PLANT_ERR_PROFILE = -6, /* v_dc or load profile invalid */
-    PLANT_ERR_SOLVER = -7,  /* substeps / initial state */
-    PLANT_ERR_STATE = -8    /* plant_advance on a non-initialised plant */
+    PLANT_ERR_PROFILE = -6,  /* v_dc or load profile invalid */
+    PLANT_ERR_SOLVER = -7,   /* substeps / initial state */
+    PLANT_ERR_STATE = -8,    /* the call needs an initialised plant */
+    PLANT_ERR_DC_LINK = -9,  /* bad dc_link parameter, or a link operation on a stiff bus */
+    PLANT_ERR_ARGUMENT = -10 /* argument out of range (phase index) */
 } plant_err_t;
 
-#define PLANT_PRIVATE_STATE_LEN 13u
+#define PLANT_PRIVATE_STATE_LEN 18u
+
+/* Runtime faults requested by the plant_set_* calls (applied at the start
+ * of the next advance). Private. */
+typedef struct {
+    bool phase_open[3];
+    bool rotor_locked;
+    bool source_connected;
+} plant_faults_t;
 
 /* Private: the caller owns the storage; use the functions below. */
 typedef struct {
@@ -229,11 +343,19 @@ typedef struct {
     double cog_cos_phi[PLANT_MAX_COG_HARMONICS];
     double cog_sin_phi[PLANT_MAX_COG_HARMONICS];
     double period_s, h_s;
+    bool link_dynamic; /* dc_link.capacitance_F > 0: v is a state */
+    double v0_link_V;  /* v(0), for capacitor_J */
     double x[PLANT_PRIVATE_STATE_LEN];
     double t_s;
     uint64_t n_periods; /* t_s = n_periods * period_s */
-    bool open_circuit;
-    bool rectification_unmodelled;
+    plant_phase_state_t phase_state[3];
+    uint32_t n_floating; /* phases BLOCKING or OPEN */
+    bool diode_mode;     /* the last integrated part had the outputs off */
+    bool brake_on;
+    bool link_clamped;
+    plant_faults_t faults;    /* in effect */
+    plant_faults_t requested; /* by plant_set_*, applied at the next advance */
+    double constraint_J;
     uint64_t rng_state;
     bool have_spare_gauss;
     double spare_gauss;
@@ -245,8 +367,9 @@ typedef struct {
 
 /* Fills a valid config: the paper 001 motor (R 0.225 ohm, L 3.8 mH,
  * psi 0.17 Wb, n_p 3, J 0.012 kg m^2, B 0), 48 V constant bus, 20 kHz,
- * no dead time, ideal sensors, 2500-line encoder, zero load, no mismatch,
- * PLANT_DEFAULT_SUBSTEPS, rotor at rest at theta_m = 0. */
+ * no dead time, stiff bus (dc_link all zero), ideal sensors, 2500-line
+ * encoder, zero load, no mismatch, PLANT_DEFAULT_SUBSTEPS, rotor at rest at
+ * theta_m = 0. */
 void plant_config_default(plant_config_t *cfg);
 
 /* Returns PLANT_OK or a negative plant_err_t; *msg (if msg != NULL) gets a
@@ -257,7 +380,8 @@ int plant_config_validate(const plant_config_t *cfg, const char **msg);
  * outputs enabled. On error the plant is left non-initialised. */
 int plant_init(plant_t *p, const plant_config_t *cfg);
 
-/* Message of the last plant_init() ("ok" after success). */
+/* Message of the last plant_init() ("ok" after success), or of the last
+ * refused plant_set_* call. */
 const char *plant_error_message(const plant_t *p);
 
 /* What the ADC/encoder see now (the PWM centre in the simulator's timing):
@@ -280,6 +404,28 @@ void plant_advance_split(plant_t *p, const double duty_first[3], bool outputs_fi
 /* Integrates one PWM period with an IDEAL rotor-frame voltage source
  * v_d, v_q (no inverter, no dead time): model checks and identification. */
 void plant_advance_vdq(plant_t *p, double v_d_V, double v_q_V);
+
+/* Runtime faults (the test bench's injections). Each takes effect at the
+ * start of the next advance and stays until changed; they return PLANT_OK or
+ * a negative plant_err_t (the plant is then unchanged; plant_error_message
+ * says why, except for PLANT_ERR_STATE on a plant that plant_init refused,
+ * which keeps plant_init's message).
+ *
+ * Phase terminal 0..2 (a, b, c) disconnected (open == true) or reconnected:
+ * the phase's current is zero in every mode (switching, diode bridge, ideal
+ * dq source); a current flowing when it opens is cut (its magnetic energy
+ * goes to constraint_J); the other two phases carry equal and opposite
+ * currents. A reconnected phase starts blocking (outputs off) or driven. */
+int plant_set_phase_open(plant_t *p, unsigned phase, bool open);
+
+/* A shaft brake: locked == true holds omega_m = 0 and theta_m (the kinetic
+ * energy at the moment it engages goes to constraint_J); released, the rotor
+ * is free again from rest. config.locked_rotor is the initial state. */
+int plant_set_rotor_locked(plant_t *p, bool locked);
+
+/* The bus source connected to the link or lost (no source current). Needs
+ * dc_link.capacitance_F > 0: on a stiff bus it is refused (PLANT_ERR_DC_LINK). */
+int plant_set_source_connected(plant_t *p, bool connected);
 
 /* True state after the last advance (valid until the next advance). */
 const plant_true_state_t *plant_true_state(const plant_t *p);

@@ -10,8 +10,9 @@
  *    integrator on w_ref - w_hat then removes the true offset: asserted RMS
  *    <= 0.05 rpm (the nominal acceptance) and <= OFF / 10; no fault while
  *    moving. Zero speed (tb >= 9 s): the paper reports diverging estimates
- *    under R +50 %; printed (bench_run), nothing asserted there, a fault
- *    from tb = 9 s on is accepted as in test_p001_robust.
+ *    under R +50 %; printed (bench_run), their accuracy not asserted, but
+ *    no fault at all (no false trip, as in test_p001_robust), integral on
+ *    or off.
  * 2. Nominal: the acceptance of test_p001_nominal holds with it on (RMS
  *    speed error at 120 rpm <= 0.05 rpm, dips <= 20 rpm, angle RMS <= 1e-3
  *    rad, load estimate RMS <= 1e-3 N m, peak current <= 3 A, no fault).
@@ -41,7 +42,8 @@ static void assert_offset_removed(double m_R, double m_psi, const char *off_labe
     const bench_result_t on = run_case(m_R, m_psi, true, on_label);
     /* the claim the integral action rests on */
     assert_true(fabs(off.mean_speed_est_err_120_rpm) <= 0.02 * fabs(off.mean_speed_err_120_rpm));
-    assert_true(on.t_first_fault_s < 0.0 || on.t_first_fault_s >= 9.0);
+    assert_int_equal(off.faults, 0u);
+    assert_int_equal(on.faults, 0u);
     assert_true(on.rms_speed_err_120_rpm <= 0.05);
     assert_true(on.rms_speed_err_120_rpm <= 0.1 * off.rms_speed_err_120_rpm);
     assert_true(on.max_speed_err_moving_rpm <= 20.0);

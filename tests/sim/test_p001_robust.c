@@ -9,9 +9,10 @@
  * achieve speed tracking "whereas w* remains away from zero": here, no
  * fault and |speed error| <= 20 rpm (the dip acceptance) while the
  * reference is non-zero (tb in [0.5, 8.5) s), phase current within i_max.
- * At zero speed (tb >= 9 s) the paper reports diverging estimates: a
- * fault from tb = 9 s on is accepted, nothing there is asserted (bench_run
- * prints the metrics).
+ * At zero speed (tb >= 9 s) the paper reports diverging estimates: their
+ * accuracy there is not asserted (bench_run prints it), but the drive's
+ * protection must not trip on any of these cases (no false trip: every
+ * fault class of mc/faults.h stays clear over the whole run).
  */
 #include "mc_test.h"
 
@@ -19,7 +20,7 @@
 
 static void assert_bounded_while_moving(const bench_result_t *r)
 {
-    assert_true(r->t_first_fault_s < 0.0 || r->t_first_fault_s >= 9.0);
+    assert_int_equal(r->faults, 0u);
     assert_true(r->max_speed_err_moving_rpm <= 20.0);
     assert_true(r->peak_current_A <= 10.0); /* i_max of the defaults */
 }

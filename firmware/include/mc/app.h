@@ -60,8 +60,23 @@
 #include "mc/delay_comp.h"
 #include "mc/drive.h"
 #include "mc/drive_io.h"
+#include "mc/emf_monitor.h"
 #include "mc/estimator.h"
+#include "mc/supervisor.h"
 #include "mc/timing.h"
+
+/* Fault events kept (the latest ones; older ones are overwritten). */
+#define MC_FAULT_HISTORY_LEN 8u
+
+/* One fault event: an ISR that latched new fault bits. */
+typedef struct {
+    uint32_t isr_count; /* the ISR (mc_telemetry_t.isr_count) */
+    uint32_t faults;    /* the bits it latched (not latched before) */
+    mc_state_t state;   /* the state it interrupted */
+    float i_abc_A[3];   /* offset-corrected phase currents */
+    float v_dc_V;
+    float omega_m_rad_s; /* speed estimate */
+} mc_fault_event_t;
 
 /* Application instance, owned by the caller (one per drive). Opaque:
  * the fields are private to firmware/app. */
@@ -72,6 +87,13 @@ typedef struct {
     float s_per_cycle;            /* 1 / hal_cycle_counter_hz() */
     mc_state_t state;
     uint32_t faults_latched;
+    uint32_t first_fault; /* bits of the first faulting ISR */
+    mc_fault_event_t history[MC_FAULT_HISTORY_LEN]; /* ring */
+    volatile uint32_t history_count;                /* events since init */
+    volatile uint32_t history_seq; /* odd while the ISR writes */
+    mc_supervisor_t supervisor;    /* drive-level checks (mc/supervisor.h) */
+    mc_emf_check_f32_t emf;        /* the estimate against the measured
+                                      back-EMF (mc/emf_monitor.h) */
     bool enable_armed;
     bool clear_prev;
     /* command double buffer (mc_app_set_command) */
@@ -127,6 +149,12 @@ void mc_app_fast_isr(mc_app_t *app);
  * decimation, the calibration length). Constant after mc_app_init.
  * Interrupt context: yes. */
 const mc_timing_t *mc_app_timing(const mc_app_t *app);
+
+/* Copy up to n of the latest fault events, newest first, into out; the
+ * number copied. MC_ERR_STATE (0 copied) when the ISR kept writing during
+ * a few attempts. Interrupt context: no. */
+mc_status_t mc_app_fault_history(const mc_app_t *app, mc_fault_event_t *out,
+                                 uint32_t n, uint32_t *copied);
 
 /* Copy the telemetry of the latest complete fast ISR. MC_ERR_STATE if the
  * ISR rewrote it during each of a few copy attempts (reader starved; *out

@@ -15,6 +15,7 @@
 #define MC_CLARKE_H
 
 #define MC_INV_SQRT3_F  0.577350269189625764509f /* 1/sqrt(3) */
+#define MC_SQRT3_F      1.732050807568877293527f /* sqrt(3) */
 #define MC_SQRT3_BY_2_F 0.866025403784438646764f /* sqrt(3)/2 */
 
 /* Three-input Clarke; removes any zero-sequence component. Interrupt context:

@@ -20,6 +20,7 @@
 #include "mc/align.h"
 #include "mc/controllers.h"
 #include "mc/current_loop.h"
+#include "mc/emf_monitor.h"
 #include "mc/est_flux_front.h"
 #include "mc/estimate_bounds.h"
 #include "mc/estimators.h"
@@ -48,8 +49,9 @@ typedef struct mc_config {
     mc_fault_limits_t protection; /* trip levels (mc/faults.h) */
     mc_current_loop_config_t current;
     mc_position_config_t position;
-    mc_align_config_t align;       /* sensorless start (mc/align.h) */
-    mc_flux_obs_config_t flux_obs; /* sensorless front end */
+    mc_align_config_t align;         /* sensorless start (mc/align.h) */
+    mc_flux_obs_config_t flux_obs;   /* sensorless front end */
+    mc_emf_check_config_t emf_check; /* estimators' back-EMF plausibility */
 #define MC_X_MEMBER(name, NAME) mc_ctl_##name##_config_t name;
     MC_CONTROLLERS(MC_X_MEMBER)
 #undef MC_X_MEMBER

@@ -43,6 +43,7 @@
 #include <stdbool.h>
 
 #include "mc/angle.h"
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 /* Valid sample-to-apply delays d, periods. */

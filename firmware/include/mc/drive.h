@@ -1,8 +1,9 @@
 /*
  * The blocks every controller may use, owned by the application and handed
  * to the selected controller's glue (mc/controllers.h): the d/q current loop
- * (also used by the ALIGN start), the setpoint stage and the previous RUN
- * voltage (bumpless transfers).
+ * (also used by the ALIGN start), the setpoint stage, the current-limit
+ * loop the application applies after every controller, and the previous
+ * RUN voltage (bumpless transfers).
  *
  * The interface every controller of the list implements, in its own glue
  * file (firmware/app/ctl_<name>.c):
@@ -22,6 +23,7 @@
 #include <stdint.h>
 
 #include "mc/compiler.h"
+#include "mc/current_limit.h"
 #include "mc/current_loop.h"
 #include "mc/drive_io.h"
 #include "mc/estimator.h"
@@ -30,6 +32,8 @@
 
 typedef struct {
     mc_current_loop_f32_t current; /* d/q PI + decoupling + voltage limit */
+    mc_current_limit_f32_t limit;  /* on the measured current, after every
+                                      controller (mc/current_limit.h) */
     mc_outer_loop_f32_t outer;     /* setpoints of the control modes */
     float n_p;                     /* pole pairs */
     float v_d_last_V, v_q_last_V;  /* voltage of the previous RUN ISR */

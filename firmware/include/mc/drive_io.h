@@ -45,6 +45,8 @@ typedef struct {
     mc_mode_t mode;
     uint32_t faults_latched; /* mc_fault_t bits, latched */
     uint32_t faults_active;  /* mc_fault_t bits, cause present now */
+    uint32_t first_fault;    /* the bits latched by the first faulting ISR
+                                since the last clear (0: none) */
     float i_abc_A[3];        /* offset-corrected phase currents */
     float i_offset_abc_A[3]; /* calibrated offsets */
     float v_dc_V;
@@ -54,13 +56,14 @@ typedef struct {
     float v_alpha_V, v_beta_V; /* voltage the duties apply (after the
                                   modulator's limit; 0 with PWM off) */
     bool v_saturated;
-    float theta_e_rad;   /* angle used by the controller */
-    float theta_m_rad;   /* multi-turn mechanical position */
-    float omega_m_rad_s; /* speed estimate */
-    float tau_L_hat_Nm;  /* load-torque estimate (0 from an
-                            estimator without one) */
-    float flux_ratio_sq; /* |rho_hat|^2 of the flux observer
-                            (sensorless; 1 when converged) */
+    bool current_limited; /* the current-limit loop corrected the voltage */
+    float theta_e_rad;    /* angle used by the controller */
+    float theta_m_rad;    /* multi-turn mechanical position */
+    float omega_m_rad_s;  /* speed estimate */
+    float tau_L_hat_Nm;   /* load-torque estimate (0 from an
+                             estimator without one) */
+    float flux_ratio_sq;  /* |rho_hat|^2 of the flux observer
+                             (sensorless; 1 when converged) */
     float omega_m_ref_rad_s;
     float theta_m_ref_rad;
     float duty_abc[3]; /* written to the HAL (next period) */

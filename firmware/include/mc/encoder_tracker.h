@@ -19,6 +19,12 @@
  * Electrical angle: theta_e = wrap_pi(n_p * theta_m_single_turn + offset_e),
  * taken from the measured count (no PLL lag).
  *
+ * Plausibility: a count step larger than step_speed_max Ts (rounded up,
+ * plus one count of quantization) is a jump no rotor below step_speed_max
+ * makes: a slip, a glitch. The tracker follows it (position and PLL angle
+ * jump with it, the speed estimate is kept) and flags it in that sample
+ * only, so the fault it causes can be cleared.
+ *
  * Quantization: a count c means the shaft is in [c, c+1) counts (the
  * encoder floors), so the measured angle is taken at the centre,
  * (c + 0.5) * 2 pi / cpr: unbiased, error within +-pi / cpr plus the
@@ -48,8 +54,9 @@ typedef struct {
     uint32_t pole_pairs;
     float offset_e_rad;
     float rad_per_count;
-    float kp_per_s;    /* 2 w_pll */
-    float ki_Ts_per_s; /* ki Ts = w_pll^2 Ts (per-sample gain) */
+    uint32_t step_max_counts; /* largest plausible count step */
+    float kp_per_s;           /* 2 w_pll */
+    float ki_Ts_per_s;        /* ki Ts = w_pll^2 Ts (per-sample gain) */
     float Ts_s;
     /* state */
     bool primed;
@@ -63,18 +70,20 @@ typedef struct {
     float theta_m_rad;   /* multi-turn mechanical position */
     float theta_e_rad;   /* electrical angle in (-pi, pi] */
     float omega_m_rad_s; /* mechanical speed estimate */
+    bool count_jump;     /* the count stepped more than step_max_counts */
 } mc_encoder_estimate_t;
 
 /* cpr in [MC_ENCODER_CPR_MIN, MC_ENCODER_CPR_MAX], pole_pairs in [1, 64],
- * |offset_e_rad| <= 2 pi, w_pll_rad_s > 0, Ts_s > 0 and
- * w_pll * Ts <= MC_ENCODER_PLL_WTS_MAX: MC_ERR_PARAM otherwise
+ * |offset_e_rad| <= 2 pi, w_pll_rad_s > 0, Ts_s > 0,
+ * w_pll * Ts <= MC_ENCODER_PLL_WTS_MAX, step_speed_max_rad_s > 0 with
+ * step_speed_max * Ts < pi (half a turn per sample): MC_ERR_PARAM otherwise
  * (MC_ERR_NONFINITE for NaN/Inf). The first update primes the tracker:
  * multi-turn position starts at that count's angle within the first turn, speed
  * at 0. Interrupt context: no. */
 mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
                                         uint32_t cpr, uint32_t pole_pairs,
                                         float offset_e_rad, float w_pll_rad_s,
-                                        float Ts_s);
+                                        float step_speed_max_rad_s, float Ts_s);
 
 /* One sample: count in [0, cpr) (MC_ERR_RANGE otherwise, state unchanged,
  * *out untouched). The count may move by less than cpr/2 between samples.

@@ -1,7 +1,10 @@
 /*
  * Estimator "encoder": incremental encoder (mc/encoder_tracker.h): the
  * electrical angle from the count, the multi-turn position, the speed from
- * a tracking PLL. No load-torque estimate (tau_L_hat = 0).
+ * a tracking PLL. No load-torque estimate (tau_L_hat = 0). A count step
+ * faster than twice the overspeed trip is MC_FAULT_ENCODER. In RUN the
+ * drive checks its angle and speed against the measured back-EMF
+ * (mc/emf_monitor.h): a slip or a frozen encoder is MC_FAULT_ENCODER.
  * Interface: mc/estimator.h.
  */
 #ifndef MC_EST_ENCODER_H
@@ -35,7 +38,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_encoder_step(mc_est_encoder_t *est,
 {
     mc_encoder_estimate_t e;
     if (mc_encoder_tracker_update_f32(&est->tracker, in->encoder_count, &e) !=
-        MC_OK) {
+            MC_OK ||
+        e.count_jump) {
         return MC_FAULT_ENCODER;
     }
     t->theta_e_rad = e.theta_e_rad;

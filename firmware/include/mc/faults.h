@@ -26,11 +26,30 @@ typedef enum {
     MC_FAULT_ISR_OVERRUN = 1u << 4,     /* fast-ISR cost > PWM period */
     MC_FAULT_EXTERNAL = 1u << 5,        /* fault/STO input asserted */
     MC_FAULT_CALIBRATION = 1u << 6,     /* current offset outside its limit */
-    MC_FAULT_ENCODER = 1u << 7,         /* count outside [0, cpr) */
-    MC_FAULT_ESTIMATE = 1u << 8         /* sensorless estimate implausible
+    MC_FAULT_ENCODER = 1u << 7,         /* count outside [0, cpr), or the
+                                           encoder's angle/speed against the
+                                           measured back-EMF (slip, freeze:
+                                           mc/emf_monitor.h) */
+    MC_FAULT_ESTIMATE = 1u << 8,        /* sensorless estimate implausible
                                            (speed, load or flux out of its
                                            bounds: diverged observer) */
+    MC_FAULT_OVERSPEED = 1u << 9,       /* |omega_m_hat| > overspeed_rad_s */
+    MC_FAULT_STALL = 1u << 10,          /* high current at near-zero speed
+                                           for stall_time_s */
+    MC_FAULT_I2T = 1u << 11,            /* thermal model: sustained current
+                                           above the continuous rating */
+    MC_FAULT_CURRENT_SENSOR = 1u << 12, /* |i_a + i_b + i_c| implausible
+                                           (offset drift, stuck channel) */
+    MC_FAULT_LOSS_OF_LOCK = 1u << 13,   /* sensorless: the estimate turns,
+                                           the measured back-EMF says the
+                                           rotor does not */
+    MC_FAULT_CURRENT_LIMIT = 1u << 14   /* the current-limit loop acted
+                                           for current_limit_time_s without
+                                           a break */
 } mc_fault_t;
+
+/* Every fault bit (for masks and reports). */
+#define MC_FAULT_ALL ((uint32_t)((MC_FAULT_CURRENT_LIMIT << 1) - 1u))
 
 /* Protection thresholds (SI units): the configuration block "protection". */
 typedef struct {
@@ -42,10 +61,34 @@ typedef struct {
                                        MC_FAULT_ESTIMATE, > 0 */
     float estimate_tau_max_Nm;      /* |tau_L_hat| above:
                                        MC_FAULT_ESTIMATE, > 0 */
+    float overspeed_rad_s;          /* |omega_m_hat| above (RUN, ALIGN):
+                                       MC_FAULT_OVERSPEED, > 0 */
+    float stall_current_A;          /* stall: |i_dq| above this ... > 0 */
+    float stall_speed_rad_s;        /* ... at |omega_m_hat| below this ...
+                                       > 0 */
+    float stall_time_s;             /* ... for this long (RUN):
+                                       MC_FAULT_STALL, > 0 */
+    float current_limit_A;          /* measured |i_dq| above: the current-
+                                       limit loop acts on the voltage of
+                                       every controller (mc/current_limit.h),
+                                       >= limits.i_max_A, < i_trip_A */
+    float current_limit_time_s;     /* the loop acting this long without a
+                                       break: MC_FAULT_CURRENT_LIMIT, > 0 */
+    float i2t_continuous_A;         /* thermal model: no heating below this
+                                       |i_dq|, > 0 */
+    float i2t_peak_A;               /* ... this current may flow for ... */
+    float i2t_peak_time_s;          /* ... this long from cold:
+                                       integral (|i|^2 - i_cont^2) dt >
+                                       (i_peak^2 - i_cont^2) t_peak is
+                                       MC_FAULT_I2T; i_peak > i_cont */
+    float current_sum_max_A;        /* |i_a + i_b + i_c| above ... > 0 */
+    float current_sum_time_s;       /* ... for this long (RUN, ALIGN):
+                                       MC_FAULT_CURRENT_SENSOR, > 0 */
 } mc_fault_limits_t;
 
 /* Check the limits: all finite, i_trip_A > 0, 0 <= v_dc_min_V < v_dc_max_V,
- * the others > 0. Returns MC_OK, MC_ERR_NONFINITE (a NaN/Inf limit) or
+ * current_limit_A < i_trip_A, i2t_peak_A > i2t_continuous_A, the others
+ * > 0. Returns MC_OK, MC_ERR_NONFINITE (a NaN/Inf limit) or
  * MC_ERR_PARAM.
  * Interrupt context: no (init only). */
 mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);

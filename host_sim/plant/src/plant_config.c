@@ -134,6 +134,49 @@ static int validate_inverter(const plant_inverter_params_t *inv, const char **ms
     return PLANT_OK;
 }
 
+static int validate_dc_link(const plant_dc_link_t *l, const char **msg)
+{
+    if (!finite_ge0(l->capacitance_F)) {
+        return fail(msg, PLANT_ERR_DC_LINK, "dc_link.capacitance_F must be finite and >= 0");
+    }
+    if (l->capacitance_F == 0.0) { /* stiff bus: nothing else applies */
+        if (l->source_resistance_ohm != 0.0 || l->brake_resistance_ohm != 0.0 ||
+            l->brake_on_V != 0.0 || l->brake_off_V != 0.0 || l->v0_given) {
+            return fail(msg, PLANT_ERR_DC_LINK,
+                        "dc_link: source_resistance_ohm, the brake and v0_V need "
+                        "capacitance_F > 0 (0 is a stiff bus)");
+        }
+        return PLANT_OK;
+    }
+    if (!finite_gt0(l->source_resistance_ohm)) {
+        return fail(msg, PLANT_ERR_DC_LINK,
+                    "dc_link.source_resistance_ohm must be finite and > 0 with a capacitance");
+    }
+    if (!finite_ge0(l->brake_resistance_ohm)) {
+        return fail(msg, PLANT_ERR_DC_LINK, "dc_link.brake_resistance_ohm must be finite and >= 0");
+    }
+    if (l->brake_resistance_ohm > 0.0) {
+        if (!finite_gt0(l->brake_on_V) || !finite_ge0(l->brake_off_V)) {
+            return fail(msg, PLANT_ERR_DC_LINK,
+                        "dc_link: brake_on_V must be finite and > 0, brake_off_V finite and >= 0");
+        }
+        if (!(l->brake_off_V < l->brake_on_V)) {
+            return fail(msg, PLANT_ERR_DC_LINK,
+                        "dc_link.brake_off_V must be below brake_on_V (the chopper's hysteresis)");
+        }
+    } else if (l->brake_on_V != 0.0 || l->brake_off_V != 0.0) {
+        return fail(msg, PLANT_ERR_DC_LINK,
+                    "dc_link: brake_on_V / brake_off_V need brake_resistance_ohm > 0");
+    }
+    if (l->v0_given && !finite_ge0(l->v0_V)) {
+        return fail(msg, PLANT_ERR_DC_LINK, "dc_link.v0_V must be finite and >= 0");
+    }
+    if (!l->v0_given && l->v0_V != 0.0) {
+        return fail(msg, PLANT_ERR_DC_LINK, "dc_link.v0_V is set but v0_given is false");
+    }
+    return PLANT_OK;
+}
+
 static int validate_sensors(const plant_sensor_params_t *s, const char **msg)
 {
     const plant_current_sensor_t *c = &s->current;
@@ -173,6 +216,8 @@ int plant_config_validate(const plant_config_t *cfg, const char **msg)
         rc = validate_motor(&cfg->motor, &cfg->mismatch, msg);
     if (rc == PLANT_OK)
         rc = validate_inverter(&cfg->inverter, msg);
+    if (rc == PLANT_OK)
+        rc = validate_dc_link(&cfg->dc_link, msg);
     if (rc == PLANT_OK)
         rc = validate_sensors(&cfg->sensors, msg);
     if (rc == PLANT_OK && sim_profile_validate(&cfg->load_torque_Nm, NULL) != SIM_PROFILE_OK) {

@@ -54,9 +54,85 @@ static bool read_duty_update(jr_object_t *o, plant_duty_update_t *update)
     return true;
 }
 
-static bool read_inverter(jr_object_t *root, plant_inverter_params_t *inv)
+/* A number key of obj that applies only under a condition that does not
+ * hold: present, it is an error at its path (expected says when it
+ * applies); absent, it is still listed among the object's keys. */
+static bool refuse_key(jr_object_t *obj, const char *key, const char *expected)
+{
+    const cJSON *item = jr_peek(obj, key);
+    if (item == NULL) {
+        double unused;
+        return jr_number_opt(obj, key, JR_ANY_FINITE, 0.0, &unused);
+    }
+    char found[SCN_TEXT_MAX];
+    jr_describe(item, found, sizeof(found));
+    jr_fail(obj, key, SCN_ERR_INVALID, expected, found);
+    return false;
+}
+
+/* The brake chopper of a capacitive link: brake_resistance_ohm > 0 needs
+ * brake_on_V and brake_off_V < brake_on_V; without it they are refused. */
+static bool read_brake(jr_object_t *o, plant_dc_link_t *l)
+{
+    if (!jr_number_opt(o, "brake_resistance_ohm", JR_CLOSED(0.0, 1e4), l->brake_resistance_ohm,
+                       &l->brake_resistance_ohm)) {
+        return false;
+    }
+    if (l->brake_resistance_ohm == 0.0) {
+        static const char only_with_brake[] = "only with brake_resistance_ohm > 0 (a brake)";
+        return refuse_key(o, "brake_on_V", only_with_brake) &&
+               refuse_key(o, "brake_off_V", only_with_brake);
+    }
+    if (!jr_number(o, "brake_on_V", JR_POSITIVE(1e5), &l->brake_on_V) ||
+        !jr_number(o, "brake_off_V", JR_CLOSED(0.0, 1e5), &l->brake_off_V)) {
+        return false;
+    }
+    if (!(l->brake_off_V < l->brake_on_V)) {
+        char expected[96];
+        char found[32];
+        snprintf(expected, sizeof(expected),
+                 "below brake_on_V = %g V (the chopper's hysteresis: off below, on above)",
+                 l->brake_on_V);
+        snprintf(found, sizeof(found), "%g", l->brake_off_V);
+        jr_fail(o, "brake_off_V", SCN_ERR_INVALID, expected, found);
+        return false;
+    }
+    return true;
+}
+
+/* inverter.dc_link (plant_dc_link_t): absent or capacitance_F 0, the stiff
+ * bus that follows inverter.v_dc_V, and no other key applies; with a
+ * capacitance, v_dc_V is the source behind source_resistance_ohm. */
+static bool read_dc_link(jr_object_t *inv, plant_dc_link_t *l)
 {
     jr_object_t o;
+    if (!jr_object_opt(inv, "dc_link", &o) ||
+        !jr_number_opt(&o, "capacitance_F", JR_CLOSED(0.0, 100.0), l->capacitance_F,
+                       &l->capacitance_F)) {
+        return false;
+    }
+    if (l->capacitance_F == 0.0) {
+        static const char *const keys[] = { "source_resistance_ohm", "brake_resistance_ohm",
+                                            "brake_on_V", "brake_off_V", "v0_V" };
+        for (size_t i = 0; i < sizeof(keys) / sizeof(keys[0]); i++) {
+            if (!refuse_key(&o, keys[i], "only with capacitance_F > 0 (0 is a stiff bus)")) {
+                return false;
+            }
+        }
+        return jr_finish(&o);
+    }
+    if (!jr_number(&o, "source_resistance_ohm", JR_POSITIVE(1e3), &l->source_resistance_ohm) ||
+        !read_brake(&o, l)) {
+        return false;
+    }
+    l->v0_given = jr_peek(&o, "v0_V") != NULL; /* absent: the source voltage at t = 0 */
+    return jr_number_opt(&o, "v0_V", JR_CLOSED(0.0, 1e5), l->v0_V, &l->v0_V) && jr_finish(&o);
+}
+
+static bool read_inverter(jr_object_t *root, plant_config_t *plant)
+{
+    jr_object_t o;
+    plant_inverter_params_t *inv = &plant->inverter;
     return jr_object_opt(root, "inverter", &o) &&
            jr_number_opt(&o, "f_pwm_Hz", JR_CLOSED(MC_TIMING_F_PWM_MIN_HZ, MC_TIMING_F_PWM_MAX_HZ),
                          inv->f_pwm_Hz, &inv->f_pwm_Hz) &&
@@ -67,7 +143,7 @@ static bool read_inverter(jr_object_t *root, plant_inverter_params_t *inv)
                          &inv->v_device_drop_V) &&
            jr_number_opt(&o, "dead_time_current_band_A", JR_CLOSED(0.0, 1e3),
                          inv->dead_time_current_band_A, &inv->dead_time_current_band_A) &&
-           jr_finish(&o);
+           read_dc_link(&o, &plant->dc_link) && jr_finish(&o);
 }
 
 static bool read_current_sensor(jr_object_t *sensors, plant_current_sensor_t *c)
@@ -201,7 +277,7 @@ static bool read_initial_and_solver(jr_object_t *root, plant_config_t *plant)
 
 bool scenario_read_plant(jr_object_t *root, plant_config_t *plant)
 {
-    if (!(read_motor(root, &plant->motor) && read_inverter(root, &plant->inverter) &&
+    if (!(read_motor(root, &plant->motor) && read_inverter(root, plant) &&
           read_sensors(root, &plant->sensors) && read_disturbances(root, plant) &&
           read_initial_and_solver(root, plant))) {
         return false;

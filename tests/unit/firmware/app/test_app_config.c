@@ -11,6 +11,7 @@
 #include "mc_test.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "mc/app.h"
 
@@ -81,6 +82,49 @@ MUT(vdc_order, c->protection.v_dc_min_V = 70.0f)
 MUT(vdc_nan, c->protection.v_dc_max_V = NAN)
 MUT(est_w_zero, c->protection.estimate_omega_max_rad_s = 0.0f)
 MUT(est_tau_zero, c->protection.estimate_tau_max_Nm = 0.0f)
+/* Protection: the supervision and current-limit fields (mc/faults.h,
+ * mc/supervisor.h) and the rules between blocks (config.c). */
+MUT(cl_below_imax, c->protection.current_limit_A = 9.99f) /* < limits.i_max_A = 10 */
+MUT(cl_at_imax, c->protection.current_limit_A = 10.0f)
+MUT(cl_below_trip, c->protection.current_limit_A = 19.99f)
+MUT(cl_at_trip, c->protection.current_limit_A = 20.0f) /* not < i_trip_A */
+MUT(cl_zero, c->protection.current_limit_A = 0.0f)
+MUT(cl_nan, c->protection.current_limit_A = NAN)
+MUT(cl_time_zero, c->protection.current_limit_time_s = 0.0f)
+MUT(cl_time_short, c->protection.current_limit_time_s = 2e-5f) /* round(0.4) = 0 */
+MUT(cl_time_one, c->protection.current_limit_time_s = 5e-5f)   /* one sample */
+MUT(cl_time_nan, c->protection.current_limit_time_s = NAN)
+MUT(os_zero, c->protection.overspeed_rad_s = 0.0f)
+MUT(os_at_wmax, c->protection.overspeed_rad_s = 40.0f) /* = limits.omega_max_rad_s */
+MUT(os_above_wmax, c->protection.overspeed_rad_s = 40.01f)
+MUT(os_inf, c->protection.overspeed_rad_s = INFINITY)
+/* Line back-EMF sqrt(3) n_p psi w_os against the over-voltage trip: the
+ * boundary from the configuration's own motor and bus (default: 60 V /
+ * (sqrt(3) 3 0.17 Wb) = 67.92 rad/s); 1e-6 either side is beyond the float
+ * rounding of w_os (6e-8) and of the product (3 roundings, 1.8e-7). */
+#define OS_BOUNDARY(c)                                                                             \
+    ((double)(c)->protection.v_dc_max_V /                                                          \
+     (sqrt(3.0) * (double)(c)->motor.pole_pairs * (double)(c)->motor.psi_Wb))
+MUT(os_bemf_at_vdc, c->protection.overspeed_rad_s = (float)(OS_BOUNDARY(c) * (1.0 + 1e-6)))
+MUT(os_bemf_below_vdc, c->protection.overspeed_rad_s = (float)(OS_BOUNDARY(c) * (1.0 - 1e-6)))
+MUT(os_bemf_higher_bus, (c->protection.v_dc_max_V = 80.0f,
+                         c->protection.overspeed_rad_s = (float)(OS_BOUNDARY(c) * (1.0 - 1e-6))))
+MUT(os_bemf_higher_psi,
+    (c->motor.psi_Wb = 0.25f, c->protection.overspeed_rad_s = 48.0f)) /* 62.4 V > 60 V */
+MUT(stall_i_zero, c->protection.stall_current_A = 0.0f)
+MUT(stall_w_zero, c->protection.stall_speed_rad_s = 0.0f)
+MUT(stall_t_zero, c->protection.stall_time_s = 0.0f)
+MUT(stall_t_short, c->protection.stall_time_s = 2e-5f) /* round(0.4) = 0 samples */
+MUT(stall_t_one, c->protection.stall_time_s = 5e-5f)   /* one sample */
+MUT(i2t_cont_zero, c->protection.i2t_continuous_A = 0.0f)
+MUT(i2t_peak_eq, c->protection.i2t_peak_A = 5.0f) /* = i2t_continuous_A */
+MUT(i2t_peak_below, c->protection.i2t_peak_A = 4.0f)
+MUT(i2t_peak_above, c->protection.i2t_peak_A = 5.01f)
+MUT(i2t_time_zero, c->protection.i2t_peak_time_s = 0.0f)
+MUT(i2t_peak_nan, c->protection.i2t_peak_A = NAN)
+MUT(sum_max_zero, c->protection.current_sum_max_A = 0.0f)
+MUT(sum_time_zero, c->protection.current_sum_time_s = 0.0f)
+MUT(sum_time_short, c->protection.current_sum_time_s = 2e-5f) /* round(0.4) = 0 */
 /* Selection. */
 MUT(est_bad, c->estimator = (mc_estimator_t)5)
 MUT(est_count, c->estimator = MC_ESTIMATOR_COUNT)
@@ -177,6 +221,38 @@ static const struct {
     CASE(vdc_nan, MC_ERR_NONFINITE),
     CASE(est_w_zero, MC_ERR_PARAM),
     CASE(est_tau_zero, MC_ERR_PARAM),
+    CASE(cl_below_imax, MC_ERR_PARAM),
+    CASE(cl_at_imax, MC_OK),
+    CASE(cl_below_trip, MC_OK),
+    CASE(cl_at_trip, MC_ERR_PARAM),
+    CASE(cl_zero, MC_ERR_PARAM),
+    CASE(cl_nan, MC_ERR_NONFINITE),
+    CASE(cl_time_zero, MC_ERR_PARAM),
+    CASE(cl_time_short, MC_ERR_PARAM),
+    CASE(cl_time_one, MC_OK),
+    CASE(cl_time_nan, MC_ERR_NONFINITE),
+    CASE(os_zero, MC_ERR_PARAM),
+    CASE(os_at_wmax, MC_ERR_PARAM),
+    CASE(os_above_wmax, MC_OK),
+    CASE(os_inf, MC_ERR_NONFINITE),
+    CASE(os_bemf_at_vdc, MC_ERR_PARAM),
+    CASE(os_bemf_below_vdc, MC_OK),
+    CASE(os_bemf_higher_bus, MC_OK),
+    CASE(os_bemf_higher_psi, MC_ERR_PARAM),
+    CASE(stall_i_zero, MC_ERR_PARAM),
+    CASE(stall_w_zero, MC_ERR_PARAM),
+    CASE(stall_t_zero, MC_ERR_PARAM),
+    CASE(stall_t_short, MC_ERR_PARAM),
+    CASE(stall_t_one, MC_OK),
+    CASE(i2t_cont_zero, MC_ERR_PARAM),
+    CASE(i2t_peak_eq, MC_ERR_PARAM),
+    CASE(i2t_peak_below, MC_ERR_PARAM),
+    CASE(i2t_peak_above, MC_OK),
+    CASE(i2t_time_zero, MC_ERR_PARAM),
+    CASE(i2t_peak_nan, MC_ERR_NONFINITE),
+    CASE(sum_max_zero, MC_ERR_PARAM),
+    CASE(sum_time_zero, MC_ERR_PARAM),
+    CASE(sum_time_short, MC_ERR_PARAM),
     CASE(est_bad, MC_ERR_PARAM),
     CASE(est_count, MC_ERR_PARAM),
     CASE(ctrl_bad, MC_ERR_PARAM),
@@ -247,6 +323,59 @@ static void test_each_invalid_field_is_rejected(void **state)
         if (got != cases[i].expected) {
             fail_msg("case %s: got %d, expected %d", cases[i].name, (int)got,
                      (int)cases[i].expected);
+        }
+    }
+}
+
+/* The back-EMF checks' thresholds (mc/emf_monitor.h: filter in [Ts, 1] s,
+ * check time of at least one sample and at most 1e6, e_min > 0, speed
+ * floor > 0, angle_max in (0, pi/2], ratio_low in (0, 1), ratio_high > 1)
+ * with each estimator that uses them: every one in the list (the encoder:
+ * slip and freeze; flux_ii and flux_pll: loss of lock). */
+static void test_emf_check_fields_per_estimator(void **state)
+{
+    (void)state;
+    const struct {
+        size_t off;
+        float value;
+        mc_status_t expected;
+    } f[] = {
+#define EMF(x) offsetof(mc_emf_check_config_t, x)
+        { EMF(filter_s), 1.01f, MC_ERR_PARAM },
+        { EMF(filter_s), 4e-5f, MC_ERR_PARAM }, /* < Ts = 50 us */
+        { EMF(filter_s), 1.0f, MC_OK },
+        { EMF(check_time_s), 0.0f, MC_ERR_PARAM },
+        { EMF(check_time_s), 4e-5f, MC_ERR_PARAM }, /* < one sample */
+        { EMF(check_time_s), 51.0f, MC_ERR_PARAM }, /* 1.02e6 samples */
+        { EMF(check_time_s), 5e-5f, MC_OK },
+        { EMF(min_V), 0.0f, MC_ERR_PARAM },
+        { EMF(min_speed_e_rad_s), 0.0f, MC_ERR_PARAM },
+        { EMF(min_speed_e_rad_s), -3.0f, MC_ERR_PARAM },
+        { EMF(angle_max_rad), 0.0f, MC_ERR_PARAM },
+        { EMF(angle_max_rad), 1.5709f, MC_ERR_PARAM }, /* > pi/2 */
+        { EMF(angle_max_rad), 1.5707f, MC_OK },
+        { EMF(ratio_low), 0.0f, MC_ERR_PARAM },
+        { EMF(ratio_low), 1.0f, MC_ERR_PARAM },
+        { EMF(ratio_high), 1.0f, MC_ERR_PARAM },
+        { EMF(ratio_high), 1.001f, MC_OK },
+        { EMF(min_V), NAN, MC_ERR_NONFINITE },
+        { EMF(ratio_high), INFINITY, MC_ERR_NONFINITE },
+#undef EMF
+    };
+    for (int e = 0; e < (int)MC_ESTIMATOR_COUNT; ++e) {
+        mc_config_t c;
+        mc_config_init_default(&c);
+        c.estimator = (mc_estimator_t)e;
+        assert_int_equal(mc_config_validate(&c), MC_OK);
+        for (size_t i = 0; i < sizeof f / sizeof f[0]; ++i) {
+            mc_config_init_default(&c);
+            c.estimator = (mc_estimator_t)e;
+            memcpy((unsigned char *)&c.emf_check + f[i].off, &f[i].value, sizeof(float));
+            const mc_status_t got = mc_config_validate(&c);
+            if (got != f[i].expected) {
+                fail_msg("%s, emf_check case %zu: got %d, expected %d",
+                         mc_estimator_name((mc_estimator_t)e), i, (int)got, (int)f[i].expected);
+            }
         }
     }
 }
@@ -380,6 +509,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_default_config_is_valid),
         cmocka_unit_test(test_each_invalid_field_is_rejected),
+        cmocka_unit_test(test_emf_check_fields_per_estimator),
         cmocka_unit_test(test_controller_estimator_compatibility),
         cmocka_unit_test(test_foc_pi_speed_bandwidth_vs_estimator),
         cmocka_unit_test(test_estimator_info),

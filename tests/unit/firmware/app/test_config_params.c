@@ -180,6 +180,7 @@ static void test_blocks_at_their_members(void **state)
                      { "position", offsetof(mc_config_t, position) },
                      { "align", offsetof(mc_config_t, align) },
                      { "flux_obs", offsetof(mc_config_t, flux_obs) },
+                     { "emf_check", offsetof(mc_config_t, emf_check) },
 #define X_EXPECT(name, NAME) { #name, offsetof(mc_config_t, name) },
                      MC_CONTROLLERS(X_EXPECT) MC_ESTIMATORS(X_EXPECT)
 #undef X_EXPECT
@@ -320,10 +321,11 @@ static void test_every_float_is_checked(void **state)
             }
         }
     }
-    /* motor 6, timing 4, limits 2, protection 6, current 2, position 1,
-     * align 8, flux_obs 3, foc_pi 1, idapbc 3, encoder 2, flux_ii 2,
-     * flux_pll 1 (the float members of mc/config.h and its blocks). */
-    assert_int_equal(n_f32, 41u);
+    /* motor 6, timing 4, limits 2, protection 17, current 2, position 1,
+     * align 8, flux_obs 3, emf_check 7, foc_pi 1, idapbc 3, encoder 2,
+     * flux_ii 2, flux_pll 1 (the float members of mc/config.h and its
+     * blocks). */
+    assert_int_equal(n_f32, 59u);
 }
 
 int main(void)

@@ -11,6 +11,8 @@
 #include "mc/encoder_tracker.h"
 
 #define TS 5e-5
+/* plausible count step (mc/encoder_tracker.h): 100 rad/s */
+#define STEP_SPEED_MAX 100.0f
 
 /* Constant speed through several turns, forward and back: the speed
  * estimate converges, the multi-turn position is exact, theta_e follows
@@ -21,8 +23,9 @@ static void test_encoder_tracker(void **state)
     const uint32_t cpr = 10000u, n_p = 3u;
     const double offset = 0.4, w_pll = 1000.0;
     mc_encoder_tracker_f32_t et;
-    assert_int_equal(
-        mc_encoder_tracker_init_f32(&et, cpr, n_p, (float)offset, (float)w_pll, (float)TS), MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, n_p, (float)offset, (float)w_pll,
+                                                 STEP_SPEED_MAX, (float)TS),
+                     MC_OK);
     const double speeds[2] = { 37.0, -37.0 };
     double theta = 1.0; /* true mechanical angle */
     for (int leg = 0; leg < 2; ++leg) {
@@ -33,6 +36,7 @@ static void test_encoder_tracker(void **state)
                 (uint32_t)floor((theta - turns * MC_TEST_TWO_PI) * cpr / (MC_TEST_TWO_PI)) % cpr;
             mc_encoder_estimate_t est;
             assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
+            assert_false(est.count_jump); /* 37 rad/s < STEP_SPEED_MAX */
             /* position within one count (+ half-count centring) */
             assert_true(fabs((double)est.theta_m_rad - theta) <
                         MC_TEST_TWO_PI / cpr + 1e-5 * fabs(theta) + 1e-6);
@@ -48,9 +52,11 @@ static void test_encoder_tracker(void **state)
     }
     mc_encoder_estimate_t est;
     assert_int_equal(mc_encoder_tracker_update_f32(&et, cpr, &est), MC_ERR_RANGE);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 2u, 3u, 0.0f, 100.0f, 5e-5f), MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, 3u, 0.0f, 20000.0f, 5e-5f),
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 2u, 3u, 0.0f, 100.0f, STEP_SPEED_MAX, 5e-5f),
                      MC_ERR_PARAM);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, cpr, 3u, 0.0f, 20000.0f, STEP_SPEED_MAX, 5e-5f),
+        MC_ERR_PARAM);
 }
 
 /* Parameter ranges: cpr in [4, 2^23] (the largest cpr for which count + 0.5
@@ -61,34 +67,60 @@ static void test_encoder_tracker_ranges(void **state)
     (void)state;
     mc_encoder_tracker_f32_t et;
     assert_int_equal(MC_ENCODER_CPR_MAX, 8388608u);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 3u, 3u, 0.0f, 100.0f, 5e-5f), MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 4u, 3u, 0.0f, 100.0f, 5e-5f), MC_OK);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, MC_ENCODER_CPR_MAX, 3u, 0.0f, 100.0f, 5e-5f),
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 3u, 3u, 0.0f, 100.0f, STEP_SPEED_MAX, 5e-5f),
+                     MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 4u, 3u, 0.0f, 100.0f, STEP_SPEED_MAX, 5e-5f),
                      MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, MC_ENCODER_CPR_MAX, 3u, 0.0f, 100.0f,
+                                                 STEP_SPEED_MAX, 5e-5f),
+                     MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, MC_ENCODER_CPR_MAX + 1u, 3u, 0.0f, 100.0f,
+                                                 STEP_SPEED_MAX, 5e-5f),
+                     MC_ERR_PARAM);
     assert_int_equal(
-        mc_encoder_tracker_init_f32(&et, MC_ENCODER_CPR_MAX + 1u, 3u, 0.0f, 100.0f, 5e-5f),
+        mc_encoder_tracker_init_f32(&et, 10000u, 0u, 0.0f, 100.0f, STEP_SPEED_MAX, 5e-5f),
         MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 0u, 0.0f, 100.0f, 5e-5f),
-                     MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 65u, 0.0f, 100.0f, 5e-5f),
-                     MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 64u, 0.0f, 100.0f, 5e-5f), MC_OK);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 6.3f, 100.0f, 5e-5f),
-                     MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, -6.28f, 100.0f, 5e-5f), MC_OK);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 0.0f, 5e-5f), MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 10000.0f, 5e-5f),
-                     MC_OK); /* w Ts = 0.5 */
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 10100.0f, 5e-5f),
-                     MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, 0.0f),
-                     MC_ERR_PARAM);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, NAN, 100.0f, 5e-5f),
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 65u, 0.0f, 100.0f, STEP_SPEED_MAX, 5e-5f),
+        MC_ERR_PARAM);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 64u, 0.0f, 100.0f, STEP_SPEED_MAX, 5e-5f), MC_OK);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, 6.3f, 100.0f, STEP_SPEED_MAX, 5e-5f),
+        MC_ERR_PARAM);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, -6.28f, 100.0f, STEP_SPEED_MAX, 5e-5f), MC_OK);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 0.0f, STEP_SPEED_MAX, 5e-5f),
+        MC_ERR_PARAM);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 10000.0f, STEP_SPEED_MAX, 5e-5f),
+        MC_OK); /* w Ts = 0.5 */
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 10100.0f, STEP_SPEED_MAX, 5e-5f),
+        MC_ERR_PARAM);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, STEP_SPEED_MAX, 0.0f),
+        MC_ERR_PARAM);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, NAN, 100.0f, STEP_SPEED_MAX, 5e-5f),
+        MC_ERR_NONFINITE);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, INFINITY, STEP_SPEED_MAX, 5e-5f),
+        MC_ERR_NONFINITE);
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, STEP_SPEED_MAX, NAN),
+        MC_ERR_NONFINITE);
+    /* the plausible step: > 0, under half a turn per sample (pi / Ts =
+     * 62832 rad/s) */
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, NAN, 5e-5f),
                      MC_ERR_NONFINITE);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, INFINITY, 5e-5f),
-                     MC_ERR_NONFINITE);
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, NAN),
-                     MC_ERR_NONFINITE);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, 0.0f, 5e-5f),
+                     MC_ERR_PARAM);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, 62800.0f, 5e-5f),
+                     MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, 10000u, 3u, 0.0f, 100.0f, 62900.0f, 5e-5f),
+                     MC_ERR_PARAM);
 }
 
 /* At the largest CPR (2^23) the counts near the top are still in range and
@@ -103,7 +135,8 @@ static void test_encoder_tracker_cpr_max(void **state)
     (void)state;
     const uint32_t cpr = MC_ENCODER_CPR_MAX;
     mc_encoder_tracker_f32_t et;
-    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, 1u, 0.0f, 100.0f, 5e-5f), MC_OK);
+    assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, 1u, 0.0f, 100.0f, STEP_SPEED_MAX, 5e-5f),
+                     MC_OK);
     const uint32_t counts[] = { cpr - 1u, 0u, 1u, cpr / 2u - 1u, cpr / 2u, cpr / 4u + 3u };
     /* a jump of less than cpr/2 counts each time (the tracker's limit) */
     mc_encoder_estimate_t est;
@@ -129,12 +162,58 @@ static void test_encoder_tracker_cpr_max(void **state)
     assert_int_equal(mc_encoder_tracker_update_f32(&et, cpr, &est), MC_ERR_RANGE);
 }
 
+/* The plausible count step: at STEP_SPEED_MAX = 100 rad/s, Ts = 50 us and
+ * 10000 counts per turn a rotor moves 7.96 counts per sample: steps of
+ * up to ceil(7.96) + 1 = 9 counts pass, 10 are a jump. A jump is flagged
+ * in its sample only; the position follows the count exactly and the speed
+ * estimate is not disturbed by it. */
+static void test_encoder_tracker_count_jump(void **state)
+{
+    (void)state;
+    const uint32_t cpr = 10000u;
+    mc_encoder_tracker_f32_t et;
+    assert_int_equal(
+        mc_encoder_tracker_init_f32(&et, cpr, 3u, 0.0f, 1000.0f, STEP_SPEED_MAX, (float)TS), MC_OK);
+    mc_encoder_estimate_t est;
+    uint32_t c = 100u;
+    int64_t pos = (int64_t)c;
+    assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
+    assert_false(est.count_jump);
+    for (int k = 0; k < 2000; ++k) { /* 2 counts per sample: 63 rad/s */
+        c += 2u;
+        pos += 2;
+        assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
+        assert_false(est.count_jump);
+    }
+    const double w = 2.0 * MC_TEST_TWO_PI / cpr / TS;
+    assert_true(fabs((double)est.omega_m_rad_s - w) < 1e-3 * w);
+    const uint32_t steps[] = { 9u, 10u, 2u, 833u, 2u };
+    const bool jumps[] = { false, true, false, true, false };
+    for (size_t i = 0; i < sizeof steps / sizeof steps[0]; ++i) {
+        const float w_before = est.omega_m_rad_s;
+        c = (c + steps[i]) % cpr;
+        pos += (int64_t)steps[i];
+        assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
+        assert_int_equal(est.count_jump, jumps[i]);
+        if (jumps[i]) { /* the PLL angle follows: no error, no speed kick */
+            assert_true(est.omega_m_rad_s == w_before);
+        }
+        const double th_m = ((double)pos + 0.5) * MC_TEST_TWO_PI / cpr;
+        assert_true(fabs((double)est.theta_m_rad - th_m) < 1e-5 * th_m);
+    }
+    /* backwards too */
+    c = (c + cpr - 10u) % cpr;
+    assert_int_equal(mc_encoder_tracker_update_f32(&et, c, &est), MC_OK);
+    assert_true(est.count_jump);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_encoder_tracker),
         cmocka_unit_test(test_encoder_tracker_ranges),
         cmocka_unit_test(test_encoder_tracker_cpr_max),
+        cmocka_unit_test(test_encoder_tracker_count_jump),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -26,3 +26,18 @@ double test_rel_err(double got, double want)
 {
     return fabs(got - want) / fabs(want);
 }
+
+double test_six_pulse_current_A(double E_V, double v_V, double R_ohm)
+{
+    const double pi = 3.14159265358979323846;
+    if (v_V >= E_V * cos(pi / 6.0)) {
+        const double phi0 = acos(v_V / E_V);
+        return 3.0 / pi * (2.0 * E_V * sin(phi0) - 2.0 * v_V * phi0) / (2.0 * R_ohm);
+    }
+    const double e_phase_V = E_V / sqrt(3.0);
+    const double theta1 = acos(v_V / (sqrt(3.0) * E_V)) - pi / 3.0;
+    const double three_phase = 2.0 * (e_phase_V * sin(theta1) - 2.0 * v_V * theta1 / 3.0) / R_ohm;
+    const double pair =
+        (2.0 * E_V * sin(pi / 6.0 - theta1) - v_V * (pi / 3.0 - 2.0 * theta1)) / (2.0 * R_ohm);
+    return 3.0 / pi * (three_phase + pair);
+}

@@ -22,6 +22,13 @@ static void test_default_is_valid(void **state)
     assert_near(plant_period_s(&p), 50e-6, 1e-18);
     const plant_true_state_t *s = plant_true_state(&p);
     assert_true(s->t_s == 0.0 && s->i_d_A == 0.0 && s->omega_m_rad_s == 0.0);
+    /* a stiff 48 V bus, no fault, outputs on */
+    assert_true(c.dc_link.capacitance_F == 0.0);
+    assert_true(s->v_dc_V == 48.0 && s->v_source_V == 48.0 && s->i_source_A == 0.0);
+    assert_true(s->source_connected && !s->rotor_locked && s->outputs_enabled);
+    assert_false(s->open_circuit || s->rectifying || s->brake_on);
+    for (int x = 0; x < 3; ++x)
+        assert_true(s->phase_state[x] == PLANT_PHASE_DRIVEN && !s->phase_open[x]);
 }
 
 typedef void (*mutate_fn)(plant_config_t *c);
@@ -63,6 +70,25 @@ MUT(m_substeps_zero, c->substeps_per_period = 0u)
 MUT(m_half_odd, c->inverter.duty_update = PLANT_DUTY_UPDATE_HALF_PERIOD;
     c->substeps_per_period = 5u)
 MUT(m_update_bad, c->inverter.duty_update = (plant_duty_update_t)7)
+MUT(m_link_c_neg, c->dc_link.capacitance_F = -1e-3)
+MUT(m_link_rs_stiff, c->dc_link.source_resistance_ohm = 0.1)
+MUT(m_link_brake_stiff, c->dc_link.brake_resistance_ohm = 10.0; c->dc_link.brake_on_V = 60.0)
+MUT(m_link_v0_stiff, c->dc_link.v0_given = true; c->dc_link.v0_V = 48.0)
+MUT(m_link_rs_zero, c->dc_link.capacitance_F = 1e-3)
+MUT(m_link_rb_neg, c->dc_link.capacitance_F = 1e-3; c->dc_link.source_resistance_ohm = 0.1;
+    c->dc_link.brake_resistance_ohm = -1.0)
+MUT(m_link_hyst, c->dc_link.capacitance_F = 1e-3; c->dc_link.source_resistance_ohm = 0.1;
+    c->dc_link.brake_resistance_ohm = 10.0; c->dc_link.brake_on_V = 60.0;
+    c->dc_link.brake_off_V = 60.0)
+MUT(m_link_on_zero, c->dc_link.capacitance_F = 1e-3; c->dc_link.source_resistance_ohm = 0.1;
+    c->dc_link.brake_resistance_ohm = 10.0)
+MUT(m_link_thresholds_no_brake, c->dc_link.capacitance_F = 1e-3;
+    c->dc_link.source_resistance_ohm = 0.1; c->dc_link.brake_on_V = 60.0;
+    c->dc_link.brake_off_V = 55.0)
+MUT(m_link_v0_neg, c->dc_link.capacitance_F = 1e-3; c->dc_link.source_resistance_ohm = 0.1;
+    c->dc_link.v0_given = true; c->dc_link.v0_V = -1.0)
+MUT(m_link_v0_not_given, c->dc_link.capacitance_F = 1e-3; c->dc_link.source_resistance_ohm = 0.1;
+    c->dc_link.v0_V = 10.0)
 MUT(m_theta0_inf, c->theta_m0_rad = INFINITY)
 MUT(m_omega0_nan, c->omega_m0_rad_s = NAN)
 
@@ -73,22 +99,27 @@ static void test_invalid_configs_rejected(void **state)
         mutate_fn fn;
         int code;
     } cases[] = {
-        { m_r_neg, PLANT_ERR_MOTOR },          { m_r_nan, PLANT_ERR_MOTOR },
-        { m_ld_zero, PLANT_ERR_MOTOR },        { m_lq_inf, PLANT_ERR_MOTOR },
-        { m_psi_neg, PLANT_ERR_MOTOR },        { m_np_zero, PLANT_ERR_MOTOR },
-        { m_j_neg, PLANT_ERR_MOTOR },          { m_b_neg, PLANT_ERR_MOTOR },
-        { m_coul_no_eps, PLANT_ERR_MOTOR },    { m_g3_too_big, PLANT_ERR_MOTOR },
-        { m_cog_no_slots, PLANT_ERR_MOTOR },   { m_cog_too_many, PLANT_ERR_MOTOR },
-        { m_mis_r_zero, PLANT_ERR_MISMATCH },  { m_mis_j_nan, PLANT_ERR_MISMATCH },
-        { m_fpwm_zero, PLANT_ERR_INVERTER },   { m_dead_half, PLANT_ERR_INVERTER },
-        { m_drop_neg, PLANT_ERR_INVERTER },    { m_band_neg, PLANT_ERR_INVERTER },
-        { m_vdc_nan, PLANT_ERR_PROFILE },      { m_gain_inf, PLANT_ERR_SENSOR },
-        { m_noise_neg, PLANT_ERR_SENSOR },     { m_bits_no_fs, PLANT_ERR_SENSOR },
-        { m_bits_big, PLANT_ERR_SENSOR },      { m_vdc_bits_no_fs, PLANT_ERR_SENSOR },
-        { m_enc_off_nan, PLANT_ERR_SENSOR },   { m_load_order, PLANT_ERR_PROFILE },
-        { m_substeps_zero, PLANT_ERR_SOLVER }, { m_theta0_inf, PLANT_ERR_SOLVER },
-        { m_omega0_nan, PLANT_ERR_SOLVER },    { m_half_odd, PLANT_ERR_SOLVER },
-        { m_update_bad, PLANT_ERR_INVERTER },
+        { m_r_neg, PLANT_ERR_MOTOR },           { m_r_nan, PLANT_ERR_MOTOR },
+        { m_ld_zero, PLANT_ERR_MOTOR },         { m_lq_inf, PLANT_ERR_MOTOR },
+        { m_psi_neg, PLANT_ERR_MOTOR },         { m_np_zero, PLANT_ERR_MOTOR },
+        { m_j_neg, PLANT_ERR_MOTOR },           { m_b_neg, PLANT_ERR_MOTOR },
+        { m_coul_no_eps, PLANT_ERR_MOTOR },     { m_g3_too_big, PLANT_ERR_MOTOR },
+        { m_cog_no_slots, PLANT_ERR_MOTOR },    { m_cog_too_many, PLANT_ERR_MOTOR },
+        { m_mis_r_zero, PLANT_ERR_MISMATCH },   { m_mis_j_nan, PLANT_ERR_MISMATCH },
+        { m_fpwm_zero, PLANT_ERR_INVERTER },    { m_dead_half, PLANT_ERR_INVERTER },
+        { m_drop_neg, PLANT_ERR_INVERTER },     { m_band_neg, PLANT_ERR_INVERTER },
+        { m_vdc_nan, PLANT_ERR_PROFILE },       { m_gain_inf, PLANT_ERR_SENSOR },
+        { m_noise_neg, PLANT_ERR_SENSOR },      { m_bits_no_fs, PLANT_ERR_SENSOR },
+        { m_bits_big, PLANT_ERR_SENSOR },       { m_vdc_bits_no_fs, PLANT_ERR_SENSOR },
+        { m_enc_off_nan, PLANT_ERR_SENSOR },    { m_load_order, PLANT_ERR_PROFILE },
+        { m_substeps_zero, PLANT_ERR_SOLVER },  { m_theta0_inf, PLANT_ERR_SOLVER },
+        { m_omega0_nan, PLANT_ERR_SOLVER },     { m_half_odd, PLANT_ERR_SOLVER },
+        { m_update_bad, PLANT_ERR_INVERTER },   { m_link_c_neg, PLANT_ERR_DC_LINK },
+        { m_link_rs_stiff, PLANT_ERR_DC_LINK }, { m_link_brake_stiff, PLANT_ERR_DC_LINK },
+        { m_link_v0_stiff, PLANT_ERR_DC_LINK }, { m_link_rs_zero, PLANT_ERR_DC_LINK },
+        { m_link_rb_neg, PLANT_ERR_DC_LINK },   { m_link_hyst, PLANT_ERR_DC_LINK },
+        { m_link_on_zero, PLANT_ERR_DC_LINK },  { m_link_thresholds_no_brake, PLANT_ERR_DC_LINK },
+        { m_link_v0_neg, PLANT_ERR_DC_LINK },   { m_link_v0_not_given, PLANT_ERR_DC_LINK },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         plant_config_t c;
@@ -106,6 +137,17 @@ static void test_invalid_configs_rejected(void **state)
         plant_advance(&p, duty, true);
         assert_true(plant_true_state(&p)->t_s == 0.0);
     }
+    /* the messages name the dc_link field */
+    plant_config_t c;
+    plant_config_default(&c);
+    m_link_rs_zero(&c);
+    const char *msg = NULL;
+    assert_int_equal(plant_config_validate(&c, &msg), PLANT_ERR_DC_LINK);
+    assert_non_null(strstr(msg, "source_resistance_ohm"));
+    plant_config_default(&c);
+    m_link_hyst(&c);
+    assert_int_equal(plant_config_validate(&c, &msg), PLANT_ERR_DC_LINK);
+    assert_non_null(strstr(msg, "brake_off_V must be below brake_on_V"));
     assert_int_equal(plant_config_validate(NULL, NULL), PLANT_ERR_NULL);
     assert_int_equal(plant_init(NULL, NULL), PLANT_ERR_NULL);
 }

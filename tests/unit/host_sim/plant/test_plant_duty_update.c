@@ -22,8 +22,8 @@ static void expect_same_state(const plant_t *a, const plant_t *b, int period)
     }
     assert_true(a->t_s == b->t_s);
     assert_true(a->n_periods == b->n_periods);
-    assert_true(a->open_circuit == b->open_circuit);
-    assert_true(a->rectification_unmodelled == b->rectification_unmodelled);
+    assert_memory_equal(a->phase_state, b->phase_state, sizeof a->phase_state);
+    assert_true(a->constraint_J == b->constraint_J);
     const plant_true_state_t *sa = plant_true_state(a);
     const plant_true_state_t *sb = plant_true_state(b);
     assert_memory_equal(sa->i_abc_A, sb->i_abc_A, sizeof sa->i_abc_A);
@@ -32,6 +32,8 @@ static void expect_same_state(const plant_t *a, const plant_t *b, int period)
     assert_true(sa->tau_e_Nm == sb->tau_e_Nm && sa->v_dc_V == sb->v_dc_V);
     assert_true(sa->outputs_enabled == sb->outputs_enabled);
     assert_true(sa->open_circuit == sb->open_circuit);
+    assert_true(sa->rectifying == sb->rectifying);
+    assert_true(sa->i_bridge_A == sb->i_bridge_A);
 }
 
 /* 60 periods of random duties on a turning rotor (200 rpm, load and

@@ -1,5 +1,5 @@
 /* Inverter average model: dead-time sign and magnitude, device drop, linear
- * zone, common mode, duty clamping, outputs disabled. */
+ * zone, common mode, duty clamping, outputs disabled (diode bridge). */
 #include "mc_test.h"
 
 #include <math.h>
@@ -140,13 +140,19 @@ static void test_disabled_currents_extinguish(void **state)
     const double t_bound = 2.0 * 3.8e-3 * i0 / (V_DC - sqrt(3.0) * 0.17 * 120.0);
     assert_true(k_off >= 0 && (k_off + 1) / 20000.0 <= t_bound);
     assert_true(s->energy.bus_J < bus_before); /* energy went back to the bus */
-    assert_false(s->rectification_unmodelled);
+    assert_false(s->rectifying);
     assert_false(s->outputs_enabled);
+    for (int x = 0; x < 3; ++x)
+        assert_int_equal(s->phase_state[x], PLANT_PHASE_BLOCKING);
     assert_near(s->tau_e_Nm, 0.0, 0.0);
 }
 
-/* Above the bus the diodes would rectify: not modelled, but flagged. */
-static void test_rectification_flagged(void **state)
+/* Above the bus the diodes rectify (this used to be flagged as unmodelled):
+ * from rest currents, the pair with the largest line back-EMF starts to
+ * conduct at once, the bridge returns current to the bus (i_bridge < 0,
+ * bus energy < 0) and the torque brakes the rotor. The rectified current
+ * itself is checked against the analytic bridge in test_plant_diode_bridge. */
+static void test_rectification_above_bus(void **state)
 {
     (void)state;
     plant_config_t c;
@@ -156,7 +162,12 @@ static void test_rectification_flagged(void **state)
     assert_int_equal(plant_init(&p, &c), PLANT_OK);
     const double duty[3] = { 0.5, 0.5, 0.5 };
     plant_advance(&p, duty, false);
-    assert_true(plant_true_state(&p)->rectification_unmodelled);
+    const plant_true_state_t *s = plant_true_state(&p);
+    assert_true(s->rectifying && !s->open_circuit);
+    assert_true(s->i_bridge_A < 0.0);
+    assert_true(s->energy.bus_J < 0.0);
+    assert_true(s->tau_e_Nm < 0.0);
+    assert_near(s->i_abc_A[0] + s->i_abc_A[1] + s->i_abc_A[2], 0.0, 1e-12);
 }
 
 int main(void)
@@ -166,7 +177,7 @@ int main(void)
         cmocka_unit_test(test_dead_time_linear_zone),
         cmocka_unit_test(test_common_mode_and_clamp),
         cmocka_unit_test(test_disabled_currents_extinguish),
-        cmocka_unit_test(test_rectification_flagged),
+        cmocka_unit_test(test_rectification_above_bus),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
