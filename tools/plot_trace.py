@@ -10,6 +10,8 @@ firmware's load estimate when it has one); angle error of the controller's
 electrical angle.
 
 usage: plot_trace.py TRACE.csv OUT.png [--title TEXT]
+       plot_trace.py --check   (exit 0 when this Python has what the plot needs;
+                                pmsm-sim runs it before a run with --plot)
 Run with the project's venv (tools/setup.sh): .venv/bin/python.
 """
 import argparse
@@ -90,10 +92,16 @@ def angle_error_panel(ax, d):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("csv", help="trace written by pmsm-sim run --csv")
-    parser.add_argument("png", help="output image")
+    parser.add_argument("csv", nargs="?", help="trace written by pmsm-sim run --csv")
+    parser.add_argument("png", nargs="?", help="output image")
     parser.add_argument("--title", default=None, help="figure title")
+    parser.add_argument("--check", action="store_true",
+                        help="only check the environment (the imports above succeeded)")
     args = parser.parse_args()
+    if args.check:
+        return
+    if args.csv is None or args.png is None:
+        parser.error("TRACE.csv and OUT.png are required")
 
     d = load(args.csv)
     panels = [speed_panel]

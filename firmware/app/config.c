@@ -81,6 +81,14 @@ void mc_config_init_default(mc_config_t *cfg)
                        .ratio_high = 2.0f },
         /* Current loop 400 Hz (w_c Ts = 0.126). */
         .current = { .bandwidth_rad_s = 2513.0f, .modulation_margin = 0.95f },
+        /* No dead time unless the board states one (the bench: the
+         * plant's); compensated when it does, with a 0.2 A band: the
+         * current ripple's amplitude on this motor, v_dc Ts / (4 L) =
+         * 0.16 A at 48 V, inside which the ripple itself crosses zero. */
+        .deadtime = { .dead_time_s = 0.0f,
+                      .device_drop_V = 0.0f,
+                      .current_band_A = 0.2f,
+                      .compensation = true },
         /* Position 1/4 of the default speed-loop bandwidth. */
         .position = { .kp_per_s = 12.5f },
         /* 2 A (1.53 N m of alignment torque per electrical rad: omega_n

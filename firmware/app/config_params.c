@@ -71,6 +71,14 @@ static const mc_param_t position_params[] = {
     MC_PARAM_END,
 };
 
+static const mc_param_t deadtime_params[] = {
+    MC_PARAM(mc_deadtime_config_t, dead_time_s, MC_PARAM_F32),
+    MC_PARAM(mc_deadtime_config_t, device_drop_V, MC_PARAM_F32),
+    MC_PARAM(mc_deadtime_config_t, current_band_A, MC_PARAM_F32),
+    MC_PARAM(mc_deadtime_config_t, compensation, MC_PARAM_BOOL),
+    MC_PARAM_END,
+};
+
 static const mc_param_t align_params[] = {
     MC_PARAM(mc_align_config_t, current_A, MC_PARAM_F32),
     MC_PARAM(mc_align_config_t, ramp_s, MC_PARAM_F32),
@@ -101,6 +109,7 @@ static const mc_param_block_t blocks[] = {
     { "limits", OFFSET(limits), limits_params },
     { "protection", OFFSET(protection), protection_params },
     { "current", OFFSET(current), current_params },
+    { "deadtime", OFFSET(deadtime), deadtime_params },
     { "position", OFFSET(position), position_params },
     { "align", OFFSET(align), align_params },
     { "flux_obs", OFFSET(flux_obs), mc_flux_obs_params },

@@ -39,6 +39,11 @@ static mc_status_t drive_init(mc_drive_t *d, const mc_config_t *c,
         .Ts_s = tm->Ts_s,
     };
     st = mc_current_limit_init_f32(&d->limit, &lp);
+    if (st != MC_OK) {
+        return st;
+    }
+    st = mc_deadtime_comp_init_f32(&d->deadtime, &c->deadtime, tm->Ts_s,
+                                   c->protection.v_dc_min_V);
     d->n_p = (float)c->motor.pole_pairs;
     d->v_d_last_V = 0.0f;
     d->v_q_last_V = 0.0f;

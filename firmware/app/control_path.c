@@ -10,8 +10,9 @@
 #include "mc/svpwm.h"
 
 /* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
- * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit.
- * Also fills the alpha/beta voltage the inverter will apply. */
+ * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit,
+ * the dead-time compensation. Also fills the alpha/beta voltage the
+ * inverter will apply. */
 static uint32_t modulate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
 {
     float s = fr->s;
@@ -33,12 +34,16 @@ static uint32_t modulate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
         MC_OK) {
         return mc_drive_voltage_fault(t->v_dc_V);
     }
-    t->v_saturated = t->v_saturated || pwm.overmodulated;
     t->v_alpha_V = pwm.v_alpha_V;
     t->v_beta_V = pwm.v_beta_V;
     for (uint32_t k = 0u; k < 3u; ++k) {
         t->duty_abc[k] = pwm.duty[k];
     }
+    /* the inverter's dead time and drops: the duties deliver the command
+     * on average (mc/deadtime_comp.h) */
+    const bool limited = mc_deadtime_comp_apply_f32(
+        &app->drive.deadtime, t->i_abc_A, t->v_dc_V, t->duty_abc);
+    t->v_saturated = t->v_saturated || pwm.overmodulated || limited;
     return MC_FAULT_NONE;
 }
 

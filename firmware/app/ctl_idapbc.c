@@ -8,6 +8,7 @@ const mc_param_t mc_ctl_idapbc_params[] = {
     MC_PARAM(mc_ctl_idapbc_config_t, integral_enabled, MC_PARAM_BOOL),
     MC_PARAM(mc_ctl_idapbc_config_t, integral_pole_rad_s, MC_PARAM_F32),
     MC_PARAM(mc_ctl_idapbc_config_t, integral_tau_max_Nm, MC_PARAM_F32),
+    MC_PARAM(mc_ctl_idapbc_config_t, paper_rotation, MC_PARAM_BOOL),
     MC_PARAM_END,
 };
 
@@ -17,12 +18,21 @@ void mc_ctl_idapbc_config_default(mc_ctl_idapbc_config_t *c)
      * slow pole 10 1/s (the pair at -87.5 1/s, mc/idapbc.h; offsets decay
      * as e^(-10 t)); tau_I limited to 2.5 N m, a third of kt i_max and
      * twice what flux +15 % needs at 120 rpm (0.15 n_p Phi w r^-1 kt =
-     * 1.3 N m, full-information estimate). */
+     * 1.3 N m, full-information estimate). Rotations by the unit vector
+     * of rho_hat's angle, not by rho_hat itself: its magnitude is the
+     * flux observer's error, not the machine's, and the printed form
+     * passes it on to the current and the voltage. Measured on the
+     * paper-001 benchmark (steady speed error at 120 rpm, no delay
+     * compensation; tests/sim/test_p001_robust.c and
+     * test_p001_paper_figures.c): R +50 % 3.16 rpm with the unit vector
+     * against 5.40 rpm as printed, flux +15 % 11.3 against 17.7 rpm,
+     * nominal 0.075 rpm either way. */
     *c = (mc_ctl_idapbc_config_t){
         .r_ohm = 0.0f,
         .integral_enabled = false,
         .integral_pole_rad_s = 10.0f,
         .integral_tau_max_Nm = 2.5f,
+        .paper_rotation = false,
     };
 }
 
@@ -90,6 +100,7 @@ mc_status_t mc_ctl_idapbc_init(mc_ctl_idapbc_t *ctl, const mc_config_t *cfg,
         return st;
     }
     ctl->integral_enabled = c->integral_enabled;
+    ctl->paper_rotation = c->paper_rotation;
     ctl->kt_Nm_per_A = kt;
     ctl->tau_max_Nm = kt * cfg->limits.i_max_A;
     return MC_OK;

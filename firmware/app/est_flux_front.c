@@ -30,11 +30,14 @@ mc_status_t mc_flux_front_init(mc_flux_front_t *f, const mc_config_t *cfg,
         return MC_ERR_PARAM;
     }
     const mc_motor_params_t *m = &cfg->motor;
+    /* gamma is (12)'s, in the paper's two-phase variables; in the
+     * firmware's amplitude-invariant ones the same observer has the gain
+     * MC_POWER_INVARIANT_SQ gamma (mc/motor.h). */
     const mc_flux_obs_params_t fp = {
         .R_ohm = m->R_ohm,
         .L_H = m->Lq_H,
         .psi_Wb = m->psi_Wb,
-        .gamma = c->gamma,
+        .gamma = MC_POWER_INVARIANT_SQ * c->gamma,
         .Ts_s = tm->Ts_s,
     };
     const mc_status_t st = mc_flux_obs_init_f32(&f->obs, &fp);

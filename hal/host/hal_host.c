@@ -28,8 +28,8 @@ hal_sim_mailbox_t *hal_sim_bound(void)
 uint32_t hal_cycle_counter(void)
 {
     struct timespec ts;
-    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) {
-        abort(); /* Linux always provides this clock */
+    if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0) {
+        abort(); /* POSIX requires this clock */
     }
     const uint64_t ns =
         (uint64_t)ts.tv_sec * HAL_HOST_NS_PER_S + (uint64_t)ts.tv_nsec;
@@ -39,4 +39,9 @@ uint32_t hal_cycle_counter(void)
 uint32_t hal_cycle_counter_hz(void)
 {
     return HAL_HOST_NS_PER_S;
+}
+
+const char *hal_host_cycle_counter_method(void)
+{
+    return HAL_HOST_CYCLE_COUNTER_METHOD;
 }

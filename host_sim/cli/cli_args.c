@@ -7,7 +7,7 @@ void cli_print_help(FILE *f)
 {
     fputs(
         "usage: pmsm-sim run SCENARIO.json [--set KEY.PATH=VALUE ...] [--csv FILE]\n"
-        "                    [--json FILE] [--plot FILE.png] [--quiet]\n"
+        "                    [--json FILE] [--plot FILE.png] [--quiet] [--dry-run]\n"
         "       pmsm-sim bench SCENARIO.json [--set KEY.PATH=VALUE ...] [--quiet]\n"
         "       pmsm-sim keys\n"
         "       pmsm-sim --help\n"
@@ -15,13 +15,15 @@ void cli_print_help(FILE *f)
         "run     simulate the scenario in closed loop (plant + host HAL + drive firmware,\n"
         "        one fast ISR per PWM period) and print its metrics: rise/settling time,\n"
         "        overshoot, offset error, fluctuation and fluctuation rate (paper 002),\n"
-        "        RMS tracking error, load-step dips, peak phase current/voltage, ISR cost,\n"
-        "        faults. Progress goes to stderr when a run takes more than 2 s.\n"
+        "        RMS tracking error, load-step dips, peak phase current/voltage per phase\n"
+        "        of the run (start, hold, profile, after a fault), ISR cost, faults.\n"
+        "        Progress goes to stderr when a run takes more than 2 s.\n"
         "bench   simulate the scenario without outputs and report simulated seconds per\n"
         "        wall-clock second of the step loop.\n"
         "keys    list the keys of the scenario's firmware section (taken from the\n"
-        "        firmware's parameter table) with their types and defaults, and the\n"
-        "        columns of the CSV trace.\n"
+        "        firmware's parameter table) with their types and defaults, the plant\n"
+        "        keys whose range is the firmware's (sensors.encoder.lines, ...), and\n"
+        "        the columns of the CSV trace.\n"
         "\n"
         "options:\n"
         "  --set KEY.PATH=VALUE  override a scenario key before validation (repeatable);\n"
@@ -31,11 +33,26 @@ void cli_print_help(FILE *f)
         "  --json FILE           write the metrics as JSON\n"
         "  --plot FILE.png       plot the trace with tools/plot_trace.py (project .venv;\n"
         "                        PMSM_SIM_PYTHON / PMSM_SIM_PLOT_SCRIPT override the paths)\n"
-        "  --quiet               no table, no progress (errors are still reported)\n"
+        "  --quiet               no table, no progress (errors and the estimate of a long\n"
+        "                        run are still reported)\n"
+        "  --dry-run             check the scenario, the outputs and the plotting environment,\n"
+        "                        print the run's estimate (simulated and wall time, CSV size)\n"
+        "                        on stdout, and stop: only the pilot runs, nothing is written\n"
+        "\n"
+        "Before a run the outputs are checked (directory exists and is writable, not the\n"
+        "scenario file, no two the same) and, with --plot, the plotting environment; each\n"
+        "file is written next to its target and moved there only when the whole run and\n"
+        "every output succeeded, so a failure leaves no partial file. The wall time of a\n"
+        "run is measured on a short pilot run of its first PWM periods; a run estimated\n"
+        "to take over a minute, or to write over 1 GB of CSV, states its simulated time,\n"
+        "wall time and trace size on stderr first.\n"
         "\n"
         "scenario format: host_sim/scenarios/README.md\n"
         "exit status: 0 ok, 1 simulation or output failed, 2 bad command line,\n"
-        "             3 scenario unreadable or invalid (the message names file and key)\n",
+        "             3 scenario unreadable or invalid (the message names file and key),\n"
+        "             4 an output cannot be written or the plotting environment is missing\n"
+        "               (found before the run); a run stopped by SIGINT, SIGTERM or SIGHUP\n"
+        "               removes its unfinished outputs and ends by that signal\n",
         f);
 }
 
@@ -55,6 +72,10 @@ static bool parse_option(int argc, char **argv, int *i, cli_args_t *out, char *m
     const char *opt = argv[*i];
     if (strcmp(opt, "--quiet") == 0) {
         out->quiet = true;
+        return true;
+    }
+    if (out->command == CLI_RUN && strcmp(opt, "--dry-run") == 0) {
+        out->dry_run = true;
         return true;
     }
     const char **slot = NULL;

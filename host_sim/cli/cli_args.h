@@ -13,7 +13,9 @@ enum {
     CLI_EXIT_OK = 0,
     CLI_EXIT_RUN_FAILED = 1, /* engine error or an output could not be written */
     CLI_EXIT_USAGE = 2,      /* bad command line */
-    CLI_EXIT_SCENARIO = 3    /* scenario file unreadable or invalid */
+    CLI_EXIT_SCENARIO = 3,   /* scenario file unreadable or invalid */
+    CLI_EXIT_OUTPUT = 4      /* an output cannot be written or the plotting environment
+                                is missing: found before the run, nothing simulated */
 };
 
 typedef enum { CLI_HELP, CLI_RUN, CLI_BENCH, CLI_KEYS } cli_command_t;
@@ -27,6 +29,7 @@ typedef struct {
     const char *json;
     const char *plot;
     bool quiet;
+    bool dry_run; /* run: check everything and state the estimate, no run */
 } cli_args_t;
 
 /* Parse argv; false with msg on a usage error. */

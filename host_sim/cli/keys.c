@@ -4,6 +4,9 @@
 #include <string.h>
 
 #include "mc/config.h"
+#include "mc/encoder_tracker.h"
+#include "mc/motor.h"
+#include "mc/timing.h"
 #include "sim/scenario.h"
 #include "trace_csv.h"
 
@@ -58,6 +61,26 @@ static void print_field(FILE *f, const mc_param_block_t *b, const mc_param_t *p,
     }
 }
 
+/* The plant keys whose range is the firmware's, from the same constants
+ * the scenario reader checks them with (the other plant keys:
+ * host_sim/scenarios/README.md). */
+static void print_plant_ranges(FILE *f)
+{
+    fputs("\nPlant keys whose range is the firmware's (all plant keys: "
+          "host_sim/scenarios/README.md):\n",
+          f);
+    fprintf(f, "  %-48s integer  1..%u (MC_MOTOR_POLE_PAIRS_MAX)\n", "motor.pole_pairs",
+            (unsigned)MC_MOTOR_POLE_PAIRS_MAX);
+    fprintf(f, "  %-48s number   [%g, %g] (MC_TIMING_F_PWM_MIN_HZ, MC_TIMING_F_PWM_MAX_HZ)\n",
+            "inverter.f_pwm_Hz", (double)MC_TIMING_F_PWM_MIN_HZ, (double)MC_TIMING_F_PWM_MAX_HZ);
+    fprintf(f,
+            "  %-48s integer  %u..%u, or 0 (no encoder: sensorless estimators only); the\n"
+            "  %-48s          firmware counts 4 x lines per revolution, at most\n"
+            "  %-48s          MC_ENCODER_CPR_MAX = %u\n",
+            "sensors.encoder.lines", (unsigned)SCENARIO_ENCODER_LINES_MIN,
+            (unsigned)SCENARIO_ENCODER_LINES_MAX, "", "", (unsigned)MC_ENCODER_CPR_MAX);
+}
+
 void keys_print(FILE *f)
 {
     mc_config_t defaults;
@@ -73,6 +96,7 @@ void keys_print(FILE *f)
             }
         }
     }
+    print_plant_ranges(f);
     fputs("\nColumns of the CSV trace (--csv):\n", f);
     for (size_t i = 0; i < trace_csv_column_count(); i++) {
         fprintf(f, "  %-20s %s\n", trace_csv_column_name(i), trace_csv_column_meaning(i));

@@ -2,103 +2,175 @@
  * trace, JSON metrics and a plot; or benchmark the closed loop. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <unistd.h>
+#include <string.h>
 
 #include "cli_args.h"
 #include "keys.h"
+#include "outputs.h"
 #include "plot.h"
 #include "report.h"
 #include "run.h"
+#include "run_estimate.h"
+#include "sim/text_escape.h"
 
 #define MSG_MAX 2048
 
-static int fail(int code, const char *msg)
+/* The signal that asked the run to stop (0: none). */
+static volatile sig_atomic_t stop_signal;
+
+static void on_stop_signal(int signo)
 {
-    fprintf(stderr, "pmsm-sim: error: %s\n", msg);
+    stop_signal = signo;
+}
+
+/* SIGINT, SIGTERM, SIGHUP end the run at the next check, so that the
+ * staged outputs are removed before the process ends by that signal. */
+static void catch_stop_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    const int signals[] = { SIGINT, SIGTERM, SIGHUP };
+    for (size_t i = 0; i < sizeof(signals) / sizeof(signals[0]); i++) {
+        sigaction(signals[i], &sa, NULL);
+    }
+}
+
+/* After the cleanup: end by the signal that stopped the run, if one did. */
+static void reraise_stop_signal(void)
+{
+    if (stop_signal != 0) {
+        signal(stop_signal, SIG_DFL);
+        raise(stop_signal);
+    }
+}
+
+/* One error line on stderr; echoed names and values escaped
+ * (sim/text_escape.h). */
+static int fail(int code, const char *prefix, const char *msg)
+{
+    static char escaped[4 * MSG_MAX];
+    text_escape(msg, escaped, sizeof(escaped));
+    fprintf(stderr, "pmsm-sim: %s%s\n", prefix, escaped);
     return code;
 }
 
-/* The CSV the run writes: the user's, or a temporary one for the plot. */
-static FILE *open_csv(const cli_args_t *args, char *tmp_path, size_t tmp_size)
-{
-    tmp_path[0] = '\0';
-    if (args->csv != NULL) {
-        return fopen(args->csv, "w");
-    }
-    if (args->plot == NULL) {
-        return NULL;
-    }
-    const char *dir = getenv("TMPDIR");
-    snprintf(tmp_path, tmp_size, "%s/pmsm-sim-trace-XXXXXX", dir != NULL ? dir : "/tmp");
-    int fd = mkstemp(tmp_path);
-    return fd >= 0 ? fdopen(fd, "w") : NULL;
-}
-
-static int write_outputs(const cli_args_t *args, const scenario_t *s, const run_result_t *res,
-                         const char *csv_path, char *msg)
+static int write_outputs(const cli_args_t *args, const outputs_t *out, const scenario_t *s,
+                         const run_result_t *res, char *msg)
 {
     report_t rep;
     report_compute(s, res, &rep);
     if (!args->quiet) {
         report_print_table(stdout, s, res, &rep);
     }
-    if (args->json != NULL &&
-        !report_write_json(args->json, args->scenario, s, res, &rep, msg, MSG_MAX)) {
+    if (args->json != NULL && !report_write_json(outputs_path(out, OUTPUT_JSON), args->scenario, s,
+                                                 res, &rep, msg, MSG_MAX)) {
         return CLI_EXIT_RUN_FAILED;
     }
-    if (args->plot != NULL && !plot_trace(csv_path, args->plot, s->name, msg, MSG_MAX)) {
+    if (args->plot != NULL && !plot_trace(outputs_path(out, OUTPUT_CSV),
+                                          outputs_path(out, OUTPUT_PLOT), s->name, msg, MSG_MAX)) {
         return CLI_EXIT_RUN_FAILED;
     }
     return CLI_EXIT_OK;
 }
 
-static int command_run(const cli_args_t *args, const scenario_t *s, char *msg)
+/* The run and its outputs into the staged files. */
+static int run_into(const cli_args_t *args, const outputs_t *out, const scenario_t *s, char *msg)
 {
-    char tmp_csv[4096];
-    FILE *csv = open_csv(args, tmp_csv, sizeof(tmp_csv));
-    if ((args->csv != NULL || args->plot != NULL) && csv == NULL) {
-        snprintf(msg, MSG_MAX, "cannot open the CSV trace file %.1000s",
-                 args->csv != NULL ? args->csv : tmp_csv);
+    const char *csv_path = outputs_path(out, OUTPUT_CSV);
+    FILE *csv = NULL;
+    if (csv_path[0] != '\0' && (csv = fopen(csv_path, "w")) == NULL) {
+        snprintf(msg, MSG_MAX, "cannot open the CSV trace file %.1000s", csv_path);
         return CLI_EXIT_RUN_FAILED;
     }
-    const run_options_t opt = { .csv = csv, .keep_series = true, .progress = !args->quiet };
+    const run_options_t opt = {
+        .csv = csv, .keep_series = true, .progress = !args->quiet, .stop = &stop_signal
+    };
     run_result_t res;
     int code = run_scenario(s, &opt, &res, msg, MSG_MAX) ? CLI_EXIT_OK : CLI_EXIT_RUN_FAILED;
-    if (csv != NULL && fclose(csv) != 0 && code == CLI_EXIT_OK) {
-        snprintf(msg, MSG_MAX, "cannot write the CSV trace");
+    if (csv != NULL && (ferror(csv) || fclose(csv) != 0) && code == CLI_EXIT_OK) {
+        snprintf(msg, MSG_MAX, "cannot write the CSV trace %.1000s",
+                 args->csv != NULL ? args->csv : csv_path);
         code = CLI_EXIT_RUN_FAILED;
     }
     if (code == CLI_EXIT_OK) {
-        code = write_outputs(args, s, &res, args->csv != NULL ? args->csv : tmp_csv, msg);
-    }
-    if (tmp_csv[0] != '\0') {
-        unlink(tmp_csv);
+        code = write_outputs(args, out, s, &res, msg);
     }
     run_result_free(&res);
     return code;
 }
 
+/* Outputs checked and staged, the plotting environment checked, the cost
+ * stated (all before the run); the staged files moved onto their targets
+ * only when everything succeeded. */
+static int command_run(const cli_args_t *args, const scenario_t *s, char *msg)
+{
+    outputs_t out;
+    if (!outputs_prepare(&out, args, msg, MSG_MAX)) {
+        return CLI_EXIT_OUTPUT;
+    }
+    if (args->plot != NULL && !plot_check_environment(msg, MSG_MAX)) {
+        outputs_discard(&out);
+        return CLI_EXIT_OUTPUT;
+    }
+    run_estimate_t est;
+    if (!run_estimate(s, outputs_path(&out, OUTPUT_CSV)[0] != '\0', true, &est, msg, MSG_MAX)) {
+        outputs_discard(&out);
+        return CLI_EXIT_RUN_FAILED;
+    }
+    if (args->dry_run) {
+        run_estimate_print(stdout, &est);
+        outputs_discard(&out);
+        return CLI_EXIT_OK;
+    }
+    if (run_estimate_is_long(&est)) {
+        run_estimate_print(stderr, &est);
+    }
+    catch_stop_signals();
+    int code = run_into(args, &out, s, msg);
+    if (code == CLI_EXIT_OK && !outputs_commit(&out, msg, MSG_MAX)) {
+        code = CLI_EXIT_RUN_FAILED;
+    }
+    if (code != CLI_EXIT_OK) {
+        outputs_discard(&out);
+    }
+    return code;
+}
+
 static int command_bench(const cli_args_t *args, const scenario_t *s, char *msg)
 {
-    const run_options_t opt = { .csv = NULL, .keep_series = false, .progress = !args->quiet };
+    run_estimate_t est;
+    if (!run_estimate(s, false, false, &est, msg, MSG_MAX)) {
+        return CLI_EXIT_RUN_FAILED;
+    }
+    if (run_estimate_is_long(&est)) {
+        run_estimate_print(stderr, &est);
+    }
+    catch_stop_signals();
+    const run_options_t opt = {
+        .csv = NULL, .keep_series = false, .progress = !args->quiet, .stop = &stop_signal
+    };
     run_result_t res;
     bool ok = run_scenario(s, &opt, &res, msg, MSG_MAX);
     run_result_free(&res);
     if (!ok) {
         return CLI_EXIT_RUN_FAILED;
     }
+    char name[4 * SCENARIO_NAME_MAX];
+    text_escape(s->name, name, sizeof(name));
     printf("bench %s: %.3f s simulated in %.3f s wall = %.3f simulated s per wall s "
            "(%.0f PWM periods/s)\n",
-           s->name, res.sim_s, res.wall_s, res.sim_s / res.wall_s,
-           (double)res.periods / res.wall_s);
+           name, res.sim_s, res.wall_s, res.sim_s / res.wall_s, (double)res.periods / res.wall_s);
     printf("method: one engine step per PWM period (plant RK4 with %u substeps, host HAL,\n"
            "        firmware fast ISR with its decimated slow loop), single thread; wall time\n"
            "        of the step loop by CLOCK_MONOTONIC, excluding scenario loading, metrics\n"
            "        and outputs; one run, so repeat it to see the spread\n",
            (unsigned)s->plant.substeps_per_period);
-    printf("firmware ISR cost (host CPU time) mean %.2f us, max %.2f us\n",
+    printf("firmware ISR cost (host wall time) mean %.2f us, max %.2f us\n",
            1e6 * res.isr_cost_mean_s, 1e6 * res.isr_cost_max_s);
     return CLI_EXIT_OK;
 }
@@ -108,8 +180,9 @@ int main(int argc, char **argv)
     static char msg[MSG_MAX];
     cli_args_t args;
     if (!cli_parse(argc, argv, &args, msg, sizeof(msg))) {
-        fprintf(stderr, "pmsm-sim: %s (see pmsm-sim --help)\n", msg);
-        return CLI_EXIT_USAGE;
+        static char usage[MSG_MAX + 32];
+        snprintf(usage, sizeof(usage), "%s (see pmsm-sim --help)", msg);
+        return fail(CLI_EXIT_USAGE, "", usage);
     }
     if (args.command == CLI_HELP) {
         cli_print_help(stdout);
@@ -123,9 +196,14 @@ int main(int argc, char **argv)
     scn_error_t err;
     if (!scenario_load(args.scenario, args.overrides, args.n_overrides, &scenario, &err)) {
         scenario_error_format(&err, msg, sizeof(msg));
-        return fail(CLI_EXIT_SCENARIO, msg);
+        return fail(CLI_EXIT_SCENARIO, "error: ", msg);
     }
     int code = args.command == CLI_RUN ? command_run(&args, &scenario, msg)
                                        : command_bench(&args, &scenario, msg);
-    return code == CLI_EXIT_OK ? code : fail(code, msg);
+    if (code == CLI_EXIT_OK) {
+        return code;
+    }
+    fail(code, "error: ", msg);
+    reraise_stop_signal();
+    return code;
 }

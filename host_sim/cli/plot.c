@@ -28,42 +28,82 @@ static void locate(const char *env_name, const char *relative, char *buf, size_t
     }
 }
 
-bool plot_trace(const char *csv_file, const char *png_file, const char *title, char *msg,
-                size_t msg_size)
+/* The Python and the script (see plot.h); false with msg when either is
+ * missing. */
+static bool locate_environment(char *python, char *script, size_t size, char *msg, size_t msg_size)
 {
-    char python[4096];
-    char script[4096];
-    locate("PMSM_SIM_PYTHON", ".venv/bin/python", python, sizeof(python));
-    locate("PMSM_SIM_PLOT_SCRIPT", "tools/plot_trace.py", script, sizeof(script));
+    locate("PMSM_SIM_PYTHON", ".venv/bin/python", python, size);
+    locate("PMSM_SIM_PLOT_SCRIPT", "tools/plot_trace.py", script, size);
     if (access(python, X_OK) != 0) {
-        snprintf(msg, msg_size, "no Python at %.1000s: run tools/setup.sh or set PMSM_SIM_PYTHON",
-                 python);
+        snprintf(msg, msg_size,
+                 "no Python at %.1000s (%s): run tools/setup.sh or set PMSM_SIM_PYTHON", python,
+                 strerror(errno));
         return false;
     }
     if (access(script, R_OK) != 0) {
-        snprintf(msg, msg_size, "no plot script at %.1000s: set PMSM_SIM_PLOT_SCRIPT", script);
+        snprintf(msg, msg_size, "no plot script at %.1000s (%s): set PMSM_SIM_PLOT_SCRIPT", script,
+                 strerror(errno));
         return false;
     }
-    char title_flag[] = "--title";
-    char *const argv[] = { python,        script, (char *)csv_file, (char *)png_file, title_flag,
-                           (char *)title, NULL };
+    return true;
+}
+
+/* Run argv[0] (the Python) and wait; false with msg unless it exits 0. */
+static bool run_python(char *const argv[], const char *what, char *msg, size_t msg_size)
+{
     pid_t pid;
-    int rc = posix_spawn(&pid, python, NULL, NULL, argv, environ);
+    int rc = posix_spawn(&pid, argv[0], NULL, NULL, argv, environ);
     if (rc != 0) {
-        snprintf(msg, msg_size, "cannot start %.1000s: %s", python, strerror(rc));
+        snprintf(msg, msg_size, "cannot start %.1000s: %s", argv[0], strerror(rc));
         return false;
     }
     int status = 0;
     while (waitpid(pid, &status, 0) < 0) {
         if (errno != EINTR) {
-            snprintf(msg, msg_size, "waiting for the plot script failed: %s", strerror(errno));
+            snprintf(msg, msg_size, "waiting for %s failed: %s", what, strerror(errno));
             return false;
         }
     }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        snprintf(msg, msg_size, "the plot script %.1000s failed (status %d)", script,
-                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+        snprintf(msg, msg_size, "%s %.1000s failed (%s %d)", what, argv[1],
+                 WIFEXITED(status) ? "exit status" : "signal",
+                 WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
         return false;
     }
     return true;
+}
+
+bool plot_check_environment(char *msg, size_t msg_size)
+{
+    char python[4096];
+    char script[4096];
+    if (!locate_environment(python, script, sizeof(python), msg, msg_size)) {
+        return false;
+    }
+    char check_flag[] = "--check";
+    char *const argv[] = { python, script, check_flag, NULL };
+    char detail[2048];
+    if (!run_python(argv, "the plotting environment check", detail, sizeof(detail))) {
+        snprintf(msg, msg_size,
+                 "the plotting environment is not usable: %s (its Python cannot import what "
+                 "the script needs: run tools/setup.sh, or set PMSM_SIM_PYTHON / "
+                 "PMSM_SIM_PLOT_SCRIPT)",
+                 detail);
+        return false;
+    }
+    return true;
+}
+
+bool plot_trace(const char *csv_file, const char *png_file, const char *title, char *msg,
+                size_t msg_size)
+{
+    char python[4096];
+    char script[4096];
+    if (!locate_environment(python, script, sizeof(python), msg, msg_size)) {
+        return false;
+    }
+    char title_flag[] = "--title";
+    char *const argv[] = { python,        script, (char *)csv_file, (char *)png_file, title_flag,
+                           (char *)title, NULL };
+    return run_python(argv, "the plot script", msg, msg_size);
 }

@@ -13,6 +13,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+/* Before a run: the Python and the script exist and the script's --check
+ * (its imports) succeeds; false with msg saying what is missing. */
+bool plot_check_environment(char *msg, size_t msg_size);
+
 /* Run the plot script; false with msg when it cannot be found or fails. */
 bool plot_trace(const char *csv_file, const char *png_file, const char *title, char *msg,
                 size_t msg_size);

@@ -65,8 +65,6 @@ void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
     const scenario_metrics_t *m = &s->metrics;
     const char *u = s->reference.display_unit;
     const sim_signal_t y = { .t = ser->t_s, .y = ser->y, .n = ser->n };
-    const sim_signal_t i_peak = { .t = ser->t_s, .y = ser->i_peak_A, .n = ser->n };
-    const sim_signal_t v_peak = { .t = ser->t_s, .y = ser->v_peak_V, .n = ser->n };
     memset(rep, 0, sizeof(*rep));
     rep->time_offset_s = s->time_offset_s;
 
@@ -79,10 +77,6 @@ void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
     report_item_t *it = add_item(rep, "rms_tracking_error", u, "RMS tracking error", u);
     it->status =
         sim_metrics_rms_error(&y, ser->ref, m->tracking_t0_s, m->tracking_t1_s, &it->value);
-    it = add_item(rep, "peak_phase_current_A", NULL, "peak phase current", "A");
-    it->status = sim_metrics_peak_abs(&i_peak, 0.0, s->duration_s, &it->value);
-    it = add_item(rep, "peak_phase_voltage_V", NULL, "peak phase voltage", "V");
-    it->status = sim_metrics_peak_abs(&v_peak, 0.0, s->duration_s, &it->value);
 
     for (size_t i = 0; i < m->n_load_steps; i++) {
         report_dip_t *d = &rep->dips[rep->n_dips++];

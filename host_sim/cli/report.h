@@ -8,8 +8,7 @@
  *   metrics.steady_window_s     offset_error_<u>, fluctuation_<u>,
  *                               fluctuation_rate_percent (paper 002, Sec. IV-A)
  *   always                      rms_tracking_error_<u> (metrics.tracking_window_s,
- *                               default the whole run), peak_phase_current_A,
- *                               peak_phase_voltage_V
+ *                               default the whole run)
  *   metrics.load_steps_s        one max_dip_<u> per load step
  *   metrics.windows             per named window: rms_error_<u>,
  *                               max_abs_error_<u>, max_abs_<mode>_<u> (|y|:
@@ -19,9 +18,20 @@
  *                               sensorless angle source (which estimates the
  *                               load), rms_load_estimate_error_Nm and
  *                               max_load_estimate_error_Nm (vs the true load)
+ *   always, by phase of the run the peak phase current and voltage (true
+ *   |i_abc|, |v_abc|) of the start (calibration, alignment), the hold
+ *   before the profile, the run under the profile and after a fault
+ *   (run_phases.h); JSON "phases": {start, hold, profile, fault}, each with
+ *   from_sim_time_s, to_sim_time_s (its first and last sample),
+ *   peak_phase_current_A, peak_phase_voltage_V, or null when the run never
+ *   reached it
  * <u> is the reference's display unit: rpm, rad_s, rad or A. Times (load
  * steps, windows, dip times) are reported in profile time, t - time_offset_s,
- * as the scenario writes them.
+ * as the scenario writes them. Where a time could be read either way its
+ * name says which: the phases in simulated time (*_sim_time_s), the first
+ * fault in both (faults.first_fault_sim_time_s and
+ * faults.first_fault_profile_time_s; the table prints both when they
+ * differ).
  * A metric that cannot be computed is null in JSON, with the reason under
  * "unavailable" (for a load step: in its own "unavailable" member), and
  * "n/a (reason)" in the table.
@@ -38,7 +48,9 @@
 #include "sim/scenario.h"
 
 #define REPORT_MAX_ITEMS 16
-#define REPORT_KEY_MAX   48
+/* Why a phase peak is unavailable (table and JSON). */
+#define REPORT_NONFINITE_PEAK "non-finite: the plant state diverged"
+#define REPORT_KEY_MAX        48
 
 typedef struct {
     char key[REPORT_KEY_MAX]; /* JSON key, unit in the name */

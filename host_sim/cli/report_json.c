@@ -7,9 +7,9 @@
 #include "drive_names.h"
 #include "report.h"
 
-#define ISR_COST_METHOD                                                                            \
-    "host thread CPU time of each firmware fast ISR (clock_gettime("                               \
-    "CLOCK_THREAD_CPUTIME_ID) via the host HAL cycle counter); host time, not MCU cycles"
+#include "hal_host.h"
+
+#define ISR_COST_METHOD HAL_HOST_CYCLE_COUNTER_METHOD
 
 /* value, or null when unavailable (the reason goes to `unavailable`). */
 static void add_metric(cJSON *metrics, cJSON *unavailable, const char *key, double value,
@@ -38,6 +38,64 @@ static void add_windows(cJSON *root, const report_t *rep)
         }
         cJSON_AddItemToObject(o, "unavailable", unavailable);
     }
+}
+
+/* A phase peak, or null with the reason under `unavailable`. */
+static void add_peak(cJSON *o, cJSON *unavailable, const char *key, double value)
+{
+    if (isfinite(value)) {
+        cJSON_AddNumberToObject(o, key, value);
+    } else {
+        cJSON_AddNullToObject(o, key);
+        cJSON_AddStringToObject(unavailable, key, REPORT_NONFINITE_PEAK);
+    }
+}
+
+/* "phases": {start, hold, profile, fault}: peaks by phase of the run (run_phases.h),
+ * in simulated time; null for a phase the run never reached. */
+static void add_phases(cJSON *root, const run_result_t *res)
+{
+    cJSON *phases = cJSON_AddObjectToObject(root, "phases");
+    for (int p = 0; p < RUN_PHASE_COUNT; p++) {
+        const run_phase_stats_t *ph = &res->phases[p];
+        const char *name = run_phase_name((run_phase_t)p);
+        if (ph->samples == 0) {
+            cJSON_AddNullToObject(phases, name);
+            continue;
+        }
+        cJSON *o = cJSON_AddObjectToObject(phases, name);
+        cJSON_AddNumberToObject(o, "from_sim_time_s", ph->t_first_s);
+        cJSON_AddNumberToObject(o, "to_sim_time_s", ph->t_last_s);
+        cJSON *unavailable = cJSON_CreateObject();
+        add_peak(o, unavailable, "peak_phase_current_A", ph->i_peak_A);
+        add_peak(o, unavailable, "peak_phase_voltage_V", ph->v_peak_V);
+        cJSON_AddItemToObject(o, "unavailable", unavailable);
+    }
+}
+
+/* "faults": the latched bits and names, the first fault's time in both
+ * time bases, the final state. */
+static void add_faults(cJSON *root, const run_result_t *res, double time_offset_s)
+{
+    cJSON *faults = cJSON_AddObjectToObject(root, "faults");
+    cJSON_AddNumberToObject(faults, "latched_bits", (double)res->faults_latched);
+    cJSON *latched = cJSON_AddArrayToObject(faults, "latched");
+    for (size_t i = 0; i < drive_fault_count(); i++) {
+        uint32_t bit;
+        const char *name = drive_fault_name(i, &bit);
+        if (res->faults_latched & bit) {
+            cJSON_AddItemToArray(latched, cJSON_CreateString(name));
+        }
+    }
+    if (isnan(res->first_fault_sim_s)) {
+        cJSON_AddNullToObject(faults, "first_fault_sim_time_s");
+        cJSON_AddNullToObject(faults, "first_fault_profile_time_s");
+    } else {
+        cJSON_AddNumberToObject(faults, "first_fault_sim_time_s", res->first_fault_sim_s);
+        cJSON_AddNumberToObject(faults, "first_fault_profile_time_s",
+                                res->first_fault_sim_s - time_offset_s);
+    }
+    cJSON_AddStringToObject(faults, "final_state", drive_state_name(res->final_state));
 }
 
 static cJSON *build_json(const char *scenario_file, const scenario_t *s, const run_result_t *res,
@@ -83,22 +141,8 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
     cJSON_AddNumberToObject(isr, "max_s", res->isr_cost_max_s);
     cJSON_AddStringToObject(isr, "method", ISR_COST_METHOD);
 
-    cJSON *faults = cJSON_AddObjectToObject(root, "faults");
-    cJSON_AddNumberToObject(faults, "latched_bits", (double)res->faults_latched);
-    cJSON *latched = cJSON_AddArrayToObject(faults, "latched");
-    for (size_t i = 0; i < drive_fault_count(); i++) {
-        uint32_t bit;
-        const char *name = drive_fault_name(i, &bit);
-        if (res->faults_latched & bit) {
-            cJSON_AddItemToArray(latched, cJSON_CreateString(name));
-        }
-    }
-    if (isnan(res->first_fault_t_s)) {
-        cJSON_AddNullToObject(faults, "first_fault_t_s");
-    } else {
-        cJSON_AddNumberToObject(faults, "first_fault_t_s", res->first_fault_t_s);
-    }
-    cJSON_AddStringToObject(faults, "final_state", drive_state_name(res->final_state));
+    add_phases(root, res);
+    add_faults(root, res, rep->time_offset_s);
     return root;
 }
 

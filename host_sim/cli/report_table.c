@@ -3,6 +3,7 @@
 
 #include "drive_names.h"
 #include "report.h"
+#include "sim/text_escape.h"
 
 static void print_value(FILE *f, const char *label, double value, sim_metrics_status_t status,
                         const char *unit)
@@ -14,10 +15,61 @@ static void print_value(FILE *f, const char *label, double value, sim_metrics_st
     }
 }
 
+/* A peak of a phase; NaN when the plant state was not finite. */
+static void print_peak(FILE *f, const char *label, double value, const char *unit)
+{
+    if (isfinite(value)) {
+        fprintf(f, "  %-32s %14.6g  %s\n", label, value, unit);
+    } else {
+        fprintf(f, "  %-32s %14s  (%s)\n", label, "n/a", REPORT_NONFINITE_PEAK);
+    }
+}
+
+/* Peaks by phase of the run, in simulated time (run_phases.h). */
+static void print_phases(FILE *f, const run_result_t *res)
+{
+    fprintf(f, "  peaks by phase of the run (simulated time; true |i_abc|, |v_abc|):\n");
+    for (int p = 0; p < RUN_PHASE_COUNT; p++) {
+        const run_phase_stats_t *ph = &res->phases[p];
+        char label[64];
+        if (ph->samples == 0) {
+            snprintf(label, sizeof(label), "  %s", run_phase_meaning((run_phase_t)p));
+            fprintf(f, "  %-32s %14s\n", label, "not reached");
+            continue;
+        }
+        fprintf(f, "    %s [%g, %g] s:\n", run_phase_meaning((run_phase_t)p), ph->t_first_s,
+                ph->t_last_s);
+        print_peak(f, "    peak phase current", ph->i_peak_A, "A");
+        print_peak(f, "    peak phase voltage", ph->v_peak_V, "V");
+    }
+}
+
+/* The latched faults; the first one's time in simulated time and, when the
+ * scenario has a time offset, in profile time too. */
+static void print_faults(FILE *f, const run_result_t *res, double time_offset_s)
+{
+    char faults[160];
+    drive_faults_text(res->faults_latched, faults, sizeof(faults));
+    if (isnan(res->first_fault_sim_s)) {
+        fprintf(f, "  %-32s %14s\n", "faults", faults);
+    } else if (time_offset_s == 0.0) {
+        fprintf(f, "  %-32s %s (first at t = %.6f s, final state %s)\n", "faults", faults,
+                res->first_fault_sim_s, drive_state_name(res->final_state));
+    } else {
+        fprintf(f,
+                "  %-32s %s (first at simulated t = %.6f s = profile time %.6f s, final "
+                "state %s)\n",
+                "faults", faults, res->first_fault_sim_s, res->first_fault_sim_s - time_offset_s,
+                drive_state_name(res->final_state));
+    }
+}
+
 void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res, const report_t *rep)
 {
+    char name[4 * SCENARIO_NAME_MAX];
+    text_escape(s->name, name, sizeof(name));
     fprintf(f, "scenario %s: %s control, %.3f s simulated in %.2f s wall (%llu PWM periods)\n",
-            s->name, scenario_mode_name(s->reference.mode), res->sim_s, res->wall_s,
+            name, scenario_mode_name(s->reference.mode), res->sim_s, res->wall_s,
             (unsigned long long)res->periods);
     if (rep->time_offset_s != 0.0) {
         fprintf(f, "  (times below in profile time = simulated time - %g s)\n", rep->time_offset_s);
@@ -41,14 +93,8 @@ void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res, c
             print_value(f, label, w->items[j].value, w->items[j].status, w->items[j].unit);
         }
     }
-    fprintf(f, "  %-32s %6.2f / %-6.2f  us (host CPU time)\n", "ISR cost mean / max",
+    print_phases(f, res);
+    fprintf(f, "  %-32s %6.2f / %-6.2f  us (host wall time)\n", "ISR cost mean / max",
             1e6 * res->isr_cost_mean_s, 1e6 * res->isr_cost_max_s);
-    char faults[160];
-    drive_faults_text(res->faults_latched, faults, sizeof(faults));
-    if (isnan(res->first_fault_t_s)) {
-        fprintf(f, "  %-32s %14s\n", "faults", faults);
-    } else {
-        fprintf(f, "  %-32s %s (first at %.6f s, final state %s)\n", "faults", faults,
-                res->first_fault_t_s, drive_state_name(res->final_state));
-    }
+    print_faults(f, res, rep->time_offset_s);
 }

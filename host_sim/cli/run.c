@@ -47,25 +47,14 @@ static double controlled_si(mc_mode_t mode, const plant_true_state_t *p)
     return NAN;
 }
 
-static double max_abs3(const double x[3])
-{
-    return fmax(fabs(x[0]), fmax(fabs(x[1]), fabs(x[2])));
-}
-
 /* The series arrays, in one place for allocation and release. */
-#define SERIES_N_ARRAYS 9
+#define SERIES_N_ARRAYS 7
 
 static void series_arrays(run_series_t *s, double **out[SERIES_N_ARRAYS])
 {
-    double **all[SERIES_N_ARRAYS] = { &s->t_s,
-                                      &s->y,
-                                      &s->ref,
-                                      &s->i_peak_A,
-                                      &s->v_peak_V,
-                                      &s->angle_err_e_rad,
-                                      &s->tau_load_hat_Nm,
-                                      &s->tau_load_Nm,
-                                      &s->zero };
+    double **all[SERIES_N_ARRAYS] = {
+        &s->t_s, &s->y, &s->ref, &s->angle_err_e_rad, &s->tau_load_hat_Nm, &s->tau_load_Nm, &s->zero
+    };
     for (size_t i = 0; i < SERIES_N_ARRAYS; i++) {
         out[i] = all[i];
     }
@@ -94,31 +83,22 @@ void run_result_free(run_result_t *res)
     res->series = (run_series_t){ 0 };
 }
 
-/* Period k enters the series: a new sample at a block start, else the
- * block's peaks grow. */
+/* Period k enters the series at a block start. */
 static void record(run_result_t *res, uint64_t k, const scenario_t *s,
                    const sim_trace_sample_t *smp, double ref_si)
 {
     run_series_t *ser = &res->series;
-    const double i_peak = max_abs3(smp->plant.i_abc_A);
-    const double v_peak = max_abs3(smp->plant.v_abc_V);
-    if (k % res->stride == 0) {
-        const double scale = s->reference.display_per_si;
-        size_t j = ser->n++;
-        ser->t_s[j] = smp->t_s;
-        ser->y[j] = controlled_si(s->reference.mode, &smp->plant) * scale;
-        ser->ref[j] = ref_si * scale;
-        ser->i_peak_A[j] = i_peak;
-        ser->v_peak_V[j] = v_peak;
-        ser->angle_err_e_rad[j] =
-            angle_diff_rad((double)smp->fw.theta_e_rad, smp->plant.theta_e_rad);
-        ser->tau_load_hat_Nm[j] = (double)smp->fw.tau_L_hat_Nm;
-        ser->tau_load_Nm[j] = smp->plant.tau_load_Nm;
-    } else {
-        size_t j = ser->n - 1;
-        ser->i_peak_A[j] = fmax(ser->i_peak_A[j], i_peak);
-        ser->v_peak_V[j] = fmax(ser->v_peak_V[j], v_peak);
+    if (k % res->stride != 0) {
+        return;
     }
+    const double scale = s->reference.display_per_si;
+    size_t j = ser->n++;
+    ser->t_s[j] = smp->t_s;
+    ser->y[j] = controlled_si(s->reference.mode, &smp->plant) * scale;
+    ser->ref[j] = ref_si * scale;
+    ser->angle_err_e_rad[j] = angle_diff_rad((double)smp->fw.theta_e_rad, smp->plant.theta_e_rad);
+    ser->tau_load_hat_Nm[j] = (double)smp->fw.tau_L_hat_Nm;
+    ser->tau_load_Nm[j] = smp->plant.tau_load_Nm;
 }
 
 typedef struct {
@@ -159,6 +139,7 @@ static bool step_loop(const scenario_t *s, const run_options_t *opt, sim_engine_
     progress_t progress = { .start_s = wall_now_s() };
     progress.last_print_s = progress.start_s;
     double isr_cost_sum_s = 0.0;
+    mc_state_t state_before = MC_STATE_IDLE;
     for (uint64_t k = 0; k < res->periods; k++) {
         const double t_s = sim_engine_time_s(engine);
         const mc_command_t cmd = command_at(&s->reference, t_s);
@@ -171,18 +152,26 @@ static bool step_loop(const scenario_t *s, const run_options_t *opt, sim_engine_
         if (opt->keep_series) {
             record(res, k, s, smp, sim_profile_eval(&s->reference.value, t_s));
         }
+        run_phases_record(res->phases, state_before, s->time_offset_s, &smp->plant);
+        state_before = smp->fw.state;
         if (opt->csv != NULL && k % s->trace_decimation == 0) {
             trace_csv_row(opt->csv, smp);
         }
         isr_cost_sum_s += (double)smp->fw.isr_cost_s;
         res->isr_cost_max_s = (double)smp->fw.isr_cost_max_s;
-        if (smp->fw.faults_latched != 0 && isnan(res->first_fault_t_s)) {
-            res->first_fault_t_s = smp->t_s;
+        if (smp->fw.faults_latched != 0 && isnan(res->first_fault_sim_s)) {
+            res->first_fault_sim_s = smp->t_s;
         }
         res->faults_latched = smp->fw.faults_latched;
         res->final_state = smp->fw.state;
-        if (opt->progress && k % CLOCK_CHECK_PERIODS == 0) {
-            progress_update(&progress, t_s, s->duration_s);
+        if (k % CLOCK_CHECK_PERIODS == 0) {
+            if (opt->stop != NULL && *opt->stop != 0) {
+                snprintf(msg, msg_size, "run stopped by a signal at t = %.6f s", t_s);
+                return false;
+            }
+            if (opt->progress) {
+                progress_update(&progress, t_s, s->duration_s);
+            }
         }
     }
     /* isr_cost_s of period k is the cost of the ISR of period k - 1 */
@@ -195,7 +184,7 @@ static bool step_loop(const scenario_t *s, const run_options_t *opt, sim_engine_
 bool run_scenario(const scenario_t *s, const run_options_t *opt, run_result_t *res, char *msg,
                   size_t msg_size)
 {
-    *res = (run_result_t){ .first_fault_t_s = NAN, .stride = 1 };
+    *res = (run_result_t){ .first_fault_sim_s = NAN, .stride = 1 };
     sim_engine_t *engine = malloc(sizeof(*engine));
     if (engine == NULL) {
         snprintf(msg, msg_size, "out of memory for the engine");

@@ -175,16 +175,35 @@ void trace_csv_header(FILE *f)
     fputc('\n', f);
 }
 
+/* Column c's text for v (snprintf style). */
+static int format_value(char *buf, size_t size, const column_t *c, double v)
+{
+    return c->digits == 0 ? snprintf(buf, size, "%.0f", v)
+                          : snprintf(buf, size, "%.*g", c->digits, v);
+}
+
 void trace_csv_row(FILE *f, const sim_trace_sample_t *smp)
 {
+    char text[64];
     for (size_t i = 0; i < N_COLUMNS; i++) {
         const column_t *c = &columns[i];
-        const double v = c->value(smp);
-        if (c->digits == 0) {
-            fprintf(f, "%s%.0f", i > 0 ? "," : "", v);
-        } else {
-            fprintf(f, "%s%.*g", i > 0 ? "," : "", c->digits, v);
+        format_value(text, sizeof(text), c, c->value(smp));
+        if (i > 0) {
+            fputc(',', f);
         }
+        fputs(text, f);
     }
     fputc('\n', f);
+}
+
+size_t trace_csv_row_bytes(void)
+{
+    /* every number at its full precision, an integer column one digit */
+    const double full_precision = -1.0 - 1.0 / 3.0;
+    size_t bytes = N_COLUMNS; /* the commas and the newline */
+    for (size_t i = 0; i < N_COLUMNS; i++) {
+        const column_t *c = &columns[i];
+        bytes += (size_t)format_value(NULL, 0, c, c->digits == 0 ? 1.0 : full_precision);
+    }
+    return bytes;
 }

@@ -20,6 +20,11 @@ void trace_csv_header(FILE *f);
 /* One data row of the sample. */
 void trace_csv_row(FILE *f, const sim_trace_sample_t *smp);
 
+/* The bytes of a data row formatted like trace_csv_row() with every number
+ * at its full precision (-1.333...) and every integer column (state,
+ * faults, outputs_on) one digit wide: the size estimate of a trace. */
+size_t trace_csv_row_bytes(void);
+
 /* Column i (i < trace_csv_column_count()): its name and meaning. */
 size_t trace_csv_column_count(void);
 const char *trace_csv_column_name(size_t i);

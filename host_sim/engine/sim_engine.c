@@ -29,12 +29,18 @@ void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw
         .B_Nm_s_rad = (float)m->B_Nm_s_rad,
     };
     fw->timing.f_pwm_Hz = (float)plant->inverter.f_pwm_Hz;
+    fw->deadtime.dead_time_s = (float)plant->inverter.t_dead_s;
+    fw->deadtime.device_drop_V = (float)plant->inverter.v_device_drop_V;
     fw->encoder.counts_per_rev = 4u * plant->sensors.encoder.lines;
-    /* The bench runs the fast ISR on host CPU time (hal/host): a loaded
-     * machine charges page faults and hypervisor steal to it, so a few
-     * periods over budget in a row are the host's, not the firmware's
-     * (measured: three in a row once in a few full test runs on a 2-core
-     * VM); 100 in a row, the largest limit, is a hung ISR. */
+    /* The bench times the fast ISR in host wall time (hal/host): a loaded
+     * machine charges preemption, page faults and hypervisor steal to the
+     * ISR it interrupts, so a few periods over budget in a row are the
+     * host's, not the firmware's (measured with thread CPU time, which
+     * sees page faults and steal: three in a row once in a few full test
+     * runs on a 2-core VM). A preemption lengthens the one ISR it falls
+     * into, and the scheduler preempts at most once a tick (ms) while the
+     * bench runs an ISR every few us, so 100 in a row, the largest limit,
+     * is still a hung ISR. */
     fw->timing.isr_overrun_limit = MC_TIMING_OVERRUN_LIMIT_MAX;
 }
 

@@ -187,10 +187,12 @@ typedef struct {
 } sim_engine_t;
 
 /* The firmware values the bench takes from the plant: the nominal motor
- * (the controller's model; the plant applies its mismatch), the PWM rate
- * and the encoder resolution (4 x lines); and the one the host sets: the
+ * (the controller's model; the plant applies its mismatch), the PWM rate,
+ * the inverter's dead time and device drop (what a board's firmware knows
+ * of its own inverter) and the encoder resolution (4 x lines); and the one
+ * the host sets: the
  * ISR-overrun fault after MC_TIMING_OVERRUN_LIMIT_MAX periods over budget
- * in a row (the ISR runs on host CPU time, see sim_engine.c). The rest of
+ * in a row (the ISR is timed in host wall time, see sim_engine.c). The rest of
  * *fw is kept.
  * Call after mc_config_init_default() (or on any configuration). */
 void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw);

@@ -26,6 +26,7 @@
 #ifndef SIM_PROFILE_H
 #define SIM_PROFILE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #define SIM_PROFILE_MAX_POINTS      32u
@@ -99,6 +100,14 @@ double sim_profile_eval(const sim_profile_t *p, double t_s);
  * step times puts the breakpoint a few ulp inside it) keeps the order of
  * the method instead of dropping to first order. */
 double sim_profile_eval_on_piece(const sim_profile_t *p, double t_s, double t_piece_s);
+
+/* True when on [t_a_s, t_b_s] the profile is one linear function of time
+ * as sim_profile_eval_on_piece sees it from pieces active in that span
+ * (only breakpoints, the same segment active at t_a_s and t_b_s): then
+ * v(t) = *value + *slope * (t - t_a_s) there, up to rounding. False with
+ * sinusoids, a polynomial or noise (they are not linear). */
+bool sim_profile_linear_on(const sim_profile_t *p, double t_a_s, double t_b_s, double *value,
+                           double *slope);
 
 /* dv/dt(t): slope of the piecewise-linear part (0 outside the breakpoints,
  * the right-hand slope at a breakpoint; a step contributes no impulse) plus

@@ -1,5 +1,7 @@
 /*
- * Shared set-up of the closed-loop tests: the paper-001 motor on a 48 V bus
+ * Shared set-up of the closed-loop tests: the paper-001 motor's numbers in
+ * the plant's amplitude-invariant frame (plant_config_default; the paper's
+ * own machine: test_p001_bench.h) on a 48 V bus
  * at 20 kHz, ideal sensors, a 2500-line encoder, the baseline FOC with the
  * firmware defaults, and helpers to run the engine.
  */

@@ -1,5 +1,7 @@
 #include "test_p001_bench.h"
 
+#include "motor_convention.h"
+
 #include "mc_test.h"
 
 #include <math.h>
@@ -9,6 +11,8 @@
 void bench_plant_config(plant_config_t *pc, double m_R, double m_L, double m_psi)
 {
     fixture_plant_config(pc);
+    /* the paper's machine: its Phi = 0.17 Wb is two-phase (power-invariant) */
+    plant_motor_to_amplitude_invariant(&pc->motor, PLANT_POWER_INVARIANT);
     pc->mismatch.R = m_R;
     pc->mismatch.L = m_L;
     pc->mismatch.psi = m_psi;
@@ -128,6 +132,10 @@ bench_result_t bench_run_to(const plant_config_t *pc, const mc_config_t *fc, con
         const double tb = s->t_s - BENCH_T0_S;
         for (unsigned k = 0u; k < 3u; ++k) {
             r.peak_current_A = fmax(r.peak_current_A, fabs(s->plant.i_abc_A[k]));
+            if (tb >= 0.0) {
+                r.peak_current_profile_A =
+                    fmax(r.peak_current_profile_A, fabs(s->plant.i_abc_A[k]));
+            }
         }
         if (s->fw.faults_latched != 0u && r.t_first_fault_s < 0.0) {
             r.t_first_fault_s = tb;

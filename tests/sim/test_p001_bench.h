@@ -42,6 +42,7 @@ typedef struct {
     double max_speed_err_moving_rpm;   /* |ref - w|, tb in [0.5, 8.5) */
     double max_angle_err_moving_rad;   /* tb in [0.5, 8.5) */
     double peak_current_A;             /* max |i_abc| from enable to the end */
+    double peak_current_profile_A;     /* max |i_abc|, tb >= 0 */
     /* zero speed at the end, tb in [9.5, 10) */
     double max_abs_speed_end_rpm;
     double max_angle_err_end_rad;
@@ -57,8 +58,10 @@ typedef struct {
     double t_first_fault_s; /* tb of the first fault, or -1 */
 } bench_result_t;
 
-/* Plant of the fixture with the benchmark load and these mismatch
- * multipliers (plant = nominal * m; the controller stays nominal). */
+/* Plant of the fixture with the paper's machine (its Phi = 0.17 Wb given
+ * power-invariant, motor_convention.h: psi = 0.1388 Wb here), the
+ * benchmark load and these mismatch multipliers (plant = nominal * m; the
+ * controller stays nominal). */
 void bench_plant_config(plant_config_t *pc, double m_R, double m_L, double m_psi);
 
 /* Firmware for the plant pc (fixture_fw_config), sensorless with this

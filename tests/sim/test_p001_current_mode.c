@@ -82,7 +82,10 @@ static void test_speed_to_current_bumpless(void **state)
     printf("speed -> current mode at i_q_ref %.4g A: max |i_q - i_q_ref| "
            "over 40 periods %.4g A (bound R |i_q| / (L w_c) = %.4g A)\n",
            i_q_ref, max_dev, bound);
-    assert_true(fabs(i_q_ref - 1.0 / (1.5 * 3.0 * 0.17)) < 0.05);
+    /* 1 N m of load on the paper's machine: kt = 1.5 n_p psi (psi the
+     * plant's, 0.17 / sqrt(3/2) Wb: motor_convention.h) */
+    const double kt = 1.5 * (double)fc.motor.pole_pairs * (double)fc.motor.psi_Wb;
+    assert_true(fabs(i_q_ref - 1.0 / kt) < 0.05);
     assert_true(max_dev <= bound);
 }
 

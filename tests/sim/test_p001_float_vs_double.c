@@ -29,8 +29,16 @@
  *     ISR's currents, the speed observer at that angle with zero speed and
  *     load, and i_q,prev from the reset rho_hat; the double observers are
  *     reset in the same ISR the same way and both step from the next one.
+ * Variables: the PAPER's. The firmware works in amplitude-invariant
+ * variables (mc/motor.h); the reference runs (12)-(16) literally in the
+ * paper's two-phase (power-invariant) ones: currents and voltages times
+ * G = sqrt(3/2), Phi = G psi, kt = n_p Phi, gamma and a1, a2 as configured
+ * (the firmware's flux_obs.gamma is the paper's; its observer uses
+ * (3/2) gamma in its variables). Angles, speeds and torques are the same
+ * in both, so they are compared directly: the comparison also checks the
+ * firmware's conversion.
  * Parameters: the firmware configuration's (float) values, promoted to
- * double; Ts = 1 / f_pwm in double; kt = 1.5 n_p Phi (the firmware's).
+ * double; Ts = 1 / f_pwm in double.
  * The delay d and the firmware's float period come from the timing record
  * of the engine the replay listens to (mc_app_timing(): what the HAL
  * reported), read at its first step.
@@ -137,16 +145,20 @@ static void clarke_d(const float i_abc[3], double *al, double *be)
     *be = (b - c) / sqrt(3.0);
 }
 
+/* sqrt(3/2): the paper's currents, voltages, fluxes per firmware one */
+#define PAPER_GAIN 1.2247448713915890491
+
 static void replay_init(replay_t *r, const mc_config_t *fc)
 {
     *r = (replay_t){ .fc = fc, .prev_state = MC_STATE_IDLE };
     const mc_motor_params_t *m = &fc->motor;
     const double Ts = 1.0 / (double)fc->timing.f_pwm_Hz;
     const double np = (double)m->pole_pairs;
-    p001d_flux_obs_init(&r->flux, (double)m->R_ohm, (double)m->Lq_H, (double)m->psi_Wb,
+    const double Phi = PAPER_GAIN * (double)m->psi_Wb;
+    p001d_flux_obs_init(&r->flux, (double)m->R_ohm, (double)m->Lq_H, Phi,
                         (double)fc->flux_obs.gamma, Ts);
     p001d_speed_obs_init(&r->speed, (double)fc->flux_ii.a1, (double)fc->flux_ii.a2, np,
-                         (double)m->J_kgm2, 1.5 * np * (double)m->psi_Wb, Ts);
+                         (double)m->J_kgm2, np * Phi, Ts);
 }
 
 /* The firmware's timing as the HAL gave it (before the first sample). */
@@ -163,7 +175,8 @@ static double angle_bound_rad(const replay_t *r)
 {
     const double Phi = r->flux.Phi_Wb;
     const double Ts_f = r->Ts_f_s;
-    const double per_sample = sqrt(2.0) * LAMBDA_ROUND_WB / (0.99 * Phi);
+    /* the firmware's lambda (its variables) against its psi = Phi / G */
+    const double per_sample = sqrt(2.0) * LAMBDA_ROUND_WB / (0.99 * Phi / PAPER_GAIN);
     return (double)r->n * per_sample +
            fabs(Ts_f / r->flux.Ts_s - 1.0) * r->flux_path_Wb / (0.99 * Phi) + per_sample +
            ATAN2_F32_MAX_ERR_RAD;
@@ -176,6 +189,8 @@ static void replay_sample(replay_t *r, const sim_trace_sample_t *s)
     double i_al;
     double i_be;
     clarke_d(fw->i_abc_A, &i_al, &i_be);
+    i_al *= PAPER_GAIN; /* the paper's variables */
+    i_be *= PAPER_GAIN;
     if (r->started && fw->state != MC_STATE_RUN) {
         r->left_run = true;
     }
@@ -233,8 +248,8 @@ static void replay_sample(replay_t *r, const sim_trace_sample_t *s)
     /* this ISR's command becomes the history of the next sample */
     r->v_older[0] = r->v_newer[0];
     r->v_older[1] = r->v_newer[1];
-    r->v_newer[0] = (double)fw->v_alpha_V;
-    r->v_newer[1] = (double)fw->v_beta_V;
+    r->v_newer[0] = PAPER_GAIN * (double)fw->v_alpha_V;
+    r->v_newer[1] = PAPER_GAIN * (double)fw->v_beta_V;
 }
 
 int __real_sim_engine_step(sim_engine_t *e, const mc_command_t *cmd);

@@ -7,8 +7,9 @@
  * 7.3 s, and a locked rotor took 19.1 A indefinitely.
  *
  * R -10 % (plant R = 0.9 x the controller's), paper scheme (IDA-PBC, flux
- * observer + I&I): when the load steps off at tb = 2.5 s the estimate's
- * angle runs away from the rotor's (to about -pi/2) while both slow down.
+ * observer + I&I), the paper's machine: during the 50 rpm hold under
+ * 1 N m (tb about 2.1 s) the estimate's angle runs away from the rotor's
+ * (to about -pi/2) while both slow down.
  * The back-EMF check (mc/emf_monitor.h) sees the measured back-EMF turn
  * away from the estimate's: once the true angle error passes angle_max =
  * 45 deg, the filtered vectors follow within a filter time constant
@@ -19,7 +20,8 @@
  * current reference: mc/current_limit.h holds it), and the true current
  * is above i_max only between the crossing and the fault. The same with
  * the reference held at 50 rpm (the fault comes before the profile leaves
- * 50 rpm at tb = 3 s: the reference cannot change it).
+ * 50 rpm at tb = 3 s: the reference cannot change it). Measured before
+ * the protection work on the machine of the time: 14-19.6 A for 2.4 s.
  *
  * R -10 %, NAM baseline (FOC + flux observer + PLL): the rotor ends up
  * shaking about standstill at i_max with the estimate near zero (below the
@@ -36,7 +38,9 @@
  *    through the check's 20 ms filter the ratio passes 1/2 after
  *    20 ms ln 2 = 13.9 ms (the angle branch would need (pi/4) / 15.7 =
  *    50 ms), then holds 0.1 s: MC_FAULT_LOSS_OF_LOCK within 0.114 s + 10 ms
- *    (the estimate's own slow-down); current <= i_max;
+ *    (the estimate's own slow-down); IDA-PBC pushes the current past
+ *    i_max meanwhile: <= the limit loop's 11 A + 5 %, above i_max only
+ *    between the lock and the fault;
  *  - NAM: the PLL estimate follows the stopped flux angle down:
  *    MC_FAULT_STALL 0.5 s after the TRUE stall began (|i| > 7 A at |omega|
  *    < 1 rad/s), give or take 20 ms of the estimate's lag; current <=
@@ -131,7 +135,7 @@ static void assert_r_minus_10_paper(double hold_rpm, const char *label)
     mc_config_t fc;
     const prot_result_t r = run(0.9, MC_CONTROLLER_IDAPBC, false, hold_rpm, &fc, label);
     assert_int_equal(r.first_fault, MC_FAULT_LOSS_OF_LOCK);
-    assert_true(g_stall.t_angle_s > BENCH_T0_S + 2.5); /* after the load step */
+    assert_true(g_stall.t_angle_s > BENCH_T0_S); /* in the benchmark */
     const double t_check = (double)fc.emf_check.check_time_s;
     assert_true(r.t_fault_s >= g_stall.t_angle_s + t_check);
     assert_true(r.t_fault_s <= g_stall.t_angle_s + t_check + (double)fc.emf_check.filter_s);
@@ -158,7 +162,7 @@ static void test_r_minus_10_nam(void **state)
     mc_config_t fc;
     const prot_result_t r = run(0.9, MC_CONTROLLER_FOC_PI, false, INFINITY, &fc, "R -10 % NAM");
     assert_int_equal(r.first_fault, MC_FAULT_STALL);
-    assert_true(g_stall.t_angle_s > BENCH_T0_S + 2.5);
+    assert_true(g_stall.t_angle_s > BENCH_T0_S);
     assert_true(r.t_fault_s <= g_stall.t_angle_s + (double)fc.protection.i2t_peak_time_s);
     assert_true(r.i_peak_watch_A <= 1.05 * (double)fc.limits.i_max_A);
 }
@@ -174,7 +178,8 @@ static void test_locked_paper(void **state)
         (double)fc.emf_check.filter_s * log(2.0) + (double)fc.emf_check.check_time_s;
     assert_true(r.t_fault_s >= T_LOCK_S + t_detect);
     assert_true(r.t_fault_s <= T_LOCK_S + t_detect + 0.01);
-    assert_true(r.i_peak_A <= (double)fc.limits.i_max_A);
+    assert_true(r.i_peak_watch_A <= 1.05 * (double)fc.protection.current_limit_A);
+    assert_true(r.t_over_i_max_s <= r.t_fault_s - T_LOCK_S);
 }
 
 static void test_locked_nam(void **state)

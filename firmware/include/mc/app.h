@@ -42,7 +42,7 @@
  * timing.isr_overrun_limit consecutive overruns latch MC_FAULT_ISR_OVERRUN
  * (PWM off in that ISR). On an MCU a too-slow ISR overruns every period, so
  * a small limit trips within a few periods; on the host, whose cycle counter
- * is real thread CPU time, a limit > 1 ignores isolated OS/VM hiccups
+ * is host wall time, a limit > 1 ignores isolated OS/VM hiccups
  * (measured: 1 ISR in 20000 costs 20-50 us, the mean is 0.4 us).
  *
  * The slow loop (speed/position) runs inside the fast ISR every

@@ -20,6 +20,7 @@
 #include "mc/align.h"
 #include "mc/controllers.h"
 #include "mc/current_loop.h"
+#include "mc/deadtime_comp.h"
 #include "mc/emf_monitor.h"
 #include "mc/est_flux_front.h"
 #include "mc/estimate_bounds.h"
@@ -48,6 +49,7 @@ typedef struct mc_config {
     mc_limits_config_t limits;
     mc_fault_limits_t protection; /* trip levels (mc/faults.h) */
     mc_current_loop_config_t current;
+    mc_deadtime_config_t deadtime; /* inverter dead time (mc/deadtime_comp.h) */
     mc_position_config_t position;
     mc_align_config_t align;         /* sensorless start (mc/align.h) */
     mc_flux_obs_config_t flux_obs;   /* sensorless front end */

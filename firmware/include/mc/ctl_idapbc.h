@@ -9,6 +9,7 @@
 #ifndef MC_CTL_IDAPBC_H
 #define MC_CTL_IDAPBC_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -31,12 +32,19 @@ typedef struct {
     float integral_pole_rad_s; /* its slow closed-loop pole p, 1/s, > 0
                                   (mc_idapbc_integral_design_f32) */
     float integral_tau_max_Nm; /* anti-windup: |tau_I| limit, > 0 */
+    bool paper_rotation;       /* rotate with rho_hat itself, (11) as
+                                  printed: v_ab = (rho_a I + rho_b Jcal)
+                                  v_hat, and i = (rho_a I + rho_b
+                                  Jcal)^T i_ab, i.e. both scaled by
+                                  |rho_hat|; false (the default): with the
+                                  unit vector of its angle */
 } mc_ctl_idapbc_config_t;
 
 typedef struct {
     mc_idapbc_f32_t law;  /* (11) */
     mc_pi_f32_t integral; /* tau_I (zeroed when disabled) */
     bool integral_enabled;
+    bool paper_rotation;
     float kt_Nm_per_A;
     float tau_max_Nm; /* kt i_max: limit of tau_c */
 } mc_ctl_idapbc_t;
@@ -60,11 +68,19 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
     tau = (tau > tau_lim) ? tau_lim : ((tau < -tau_lim) ? -tau_lim : tau);
     t->i_d_ref_A = 0.0f;
     t->i_q_ref_A = tau / ctl->kt_Nm_per_A;
-    if (mc_idapbc_step_f32(&ctl->law, t->i_d_A, t->i_q_A, t->omega_m_ref_rad_s,
-                           t->omega_m_rad_s, tau, &t->v_d_V,
-                           &t->v_q_V) != MC_OK) {
+    /* The rotations into and out of the estimated frame: by the unit
+     * vector of rho_hat's angle (t->i_d_A, t->i_q_A and the inverse Park
+     * of the control path), or, as printed, by rho_hat itself: both scaled
+     * by |rho_hat| (|rho_hat|^2 from the flux front end, within its
+     * plausibility bounds or already a fault). */
+    const float rho = ctl->paper_rotation ? sqrtf(t->flux_ratio_sq) : 1.0f;
+    if (mc_idapbc_step_f32(&ctl->law, rho * t->i_d_A, rho * t->i_q_A,
+                           t->omega_m_ref_rad_s, t->omega_m_rad_s, tau,
+                           &t->v_d_V, &t->v_q_V) != MC_OK) {
         return MC_FAULT_NONFINITE;
     }
+    t->v_d_V *= rho;
+    t->v_q_V *= rho;
     return MC_FAULT_NONE;
 }
 

@@ -25,18 +25,20 @@
 #include "mc/compiler.h"
 #include "mc/current_limit.h"
 #include "mc/current_loop.h"
+#include "mc/deadtime_comp.h"
 #include "mc/drive_io.h"
 #include "mc/estimator.h"
 #include "mc/faults.h"
 #include "mc/outer_loop.h"
 
 typedef struct {
-    mc_current_loop_f32_t current; /* d/q PI + decoupling + voltage limit */
-    mc_current_limit_f32_t limit;  /* on the measured current, after every
-                                      controller (mc/current_limit.h) */
-    mc_outer_loop_f32_t outer;     /* setpoints of the control modes */
-    float n_p;                     /* pole pairs */
-    float v_d_last_V, v_q_last_V;  /* voltage of the previous RUN ISR */
+    mc_current_loop_f32_t current;   /* d/q PI + decoupling + voltage limit */
+    mc_current_limit_f32_t limit;    /* on the measured current, after every
+                                        controller (mc/current_limit.h) */
+    mc_deadtime_comp_f32_t deadtime; /* on the duties (mc/deadtime_comp.h) */
+    mc_outer_loop_f32_t outer;       /* setpoints of the control modes */
+    float n_p;                       /* pole pairs */
+    float v_d_last_V, v_q_last_V;    /* voltage of the previous RUN ISR */
 } mc_drive_t;
 
 /* The fault of a failed voltage computation (current loop, modulator): a

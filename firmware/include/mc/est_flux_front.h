@@ -28,7 +28,9 @@
 #include "mc/timing.h"
 
 typedef struct {
-    float gamma;     /* gamma of (12), 1/(Wb^2 s), > 0 */
+    float gamma;     /* gamma of (12) as the paper gives it, in its
+                        two-phase (power-invariant) variables (mc/motor.h),
+                        1/(Wb^2 s), > 0 */
     float ratio_min; /* |rho_hat| (= |eta| / psi) outside */
     float ratio_max; /* [min, max]: MC_FAULT_ESTIMATE;
                         0 < min < 1 < max */

@@ -15,6 +15,17 @@
 
 #define MC_MOTOR_POLE_PAIRS_MAX 64u
 
+/* Papers 000 and 001 write the machine as a two-phase one, torque
+ * n_p Phi i^T Jcal rho (no 3/2): the power-invariant frame of the same
+ * three-phase machine, whose currents, voltages and flux linkages are
+ * sqrt(3/2) times the amplitude-invariant ones used here (R, L, J,
+ * torques and speeds alike; Phi = sqrt(3/2) psi). Their equations keep
+ * their form in these variables with kt = 1.5 n_p psi where they have
+ * n_p Phi (both the torque per A of q current), except a gain multiplying
+ * a squared flux or current: (12)'s gamma is MC_POWER_INVARIANT_SQ times
+ * larger here. */
+#define MC_POWER_INVARIANT_SQ 1.5f
+
 typedef struct {
     float R_ohm;         /* stator resistance, >= 0 */
     float Ld_H, Lq_H;    /* d/q inductances, > 0 */

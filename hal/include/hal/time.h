@@ -17,7 +17,7 @@ uint32_t hal_time_tick_hz(void);
 
 /* Free-running 32-bit cycle counter (wraps; compute differences with
  * unsigned subtraction). On a Cortex-M it is DWT->CYCCNT; on the host it is
- * the calling thread's CPU time in ns (see hal/host). Callable from interrupt
+ * the host's monotonic clock in ns (see hal/host). Callable from interrupt
  * context: yes; cost a few cycles. */
 uint32_t hal_cycle_counter(void);
 

@@ -6,7 +6,10 @@
 #include <string.h>
 
 #include "plant_dynamics.h"
+#include "plant_exact.h"
 #include "plant_frames.h"
+#include "plant_rk4.h"
+#include "plant_sensors.h"
 
 /* Events (conduction and brake changes, plant.h) are located inside a
  * substep to EVENT_TIME_TOL of a substep, in at most EVENT_LOCATE_MAX_IT
@@ -22,36 +25,11 @@
  * rounding of a current that is exactly zero in the projected state. */
 #define CURRENT_ZERO_REL (64.0 * DBL_EPSILON)
 
-/* Classic RK4 step of length h from (t_s, x), in place, on the first n
- * state elements (n is a constant at both call sites of rk4_step). */
-static inline void rk4_step_n(const plant_t *p, const plant_source_t *src, double t_s, double h,
-                              double x[PX_LEN], int n)
-{
-    double k1[PX_LEN], k2[PX_LEN], k3[PX_LEN], k4[PX_LEN], xs[PX_LEN];
-    const double t_mid = t_s + 0.5 * h;
-    plant_derivatives(p, src, t_s, t_mid, x, k1, NULL);
-    for (int j = 0; j < n; ++j)
-        xs[j] = x[j] + 0.5 * h * k1[j];
-    plant_derivatives(p, src, t_mid, t_mid, xs, k2, NULL);
-    for (int j = 0; j < n; ++j)
-        xs[j] = x[j] + 0.5 * h * k2[j];
-    plant_derivatives(p, src, t_mid, t_mid, xs, k3, NULL);
-    for (int j = 0; j < n; ++j)
-        xs[j] = x[j] + h * k3[j];
-    plant_derivatives(p, src, t_s + h, t_mid, xs, k4, NULL);
-    for (int j = 0; j < n; ++j) {
-        x[j] += (h / 6.0) * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]);
-    }
-}
-
+/* One RK4 step (plant_rk4.h); a function here, so its callers share one copy. */
 static void rk4_step(const plant_t *p, const plant_source_t *src, double t_s, double h,
                      double x[PX_LEN])
 {
-    if (p->link_dynamic) {
-        rk4_step_n(p, src, t_s, h, x, PX_LEN);
-    } else {
-        rk4_step_n(p, src, t_s, h, x, PX_STIFF_LEN);
-    }
+    plant_rk4_step(p, src, t_s, h, x);
 }
 
 static double magnetic_energy_J(const plant_t *p)
@@ -402,9 +380,15 @@ static void substep_with_events(plant_t *p, const plant_source_t *src, double t_
     }
 }
 
-/* RK4 substeps j0 .. j1 - 1 of the current period under src. */
+/* Substeps j0 .. j1 - 1 of the current period under src: exact where it
+ * applies (plant_exact.h), else RK4. */
 static void integrate_substeps(plant_t *p, const plant_source_t *src, uint32_t j0, uint32_t j1)
 {
+    if (plant_exact_applies(p, src)) {
+        plant_exact_substeps(p, src, j0, j1);
+        return;
+    }
+    p->exact_carry = false;
     const double t0 = p->t_s;
     if (p->n_floating == 0u && src->kind != PLANT_SRC_DIODES && !p->link_dynamic) {
         for (uint32_t j = j0; j < j1; ++j) {
@@ -514,6 +498,7 @@ int plant_init(plant_t *p, const plant_config_t *cfg)
     }
     p->period_s = 1.0 / cfg->inverter.f_pwm_Hz;
     p->h_s = p->period_s / (double)cfg->substeps_per_period;
+    plant_exact_init(p);
     p->x[PX_THETA] = cfg->theta_m0_rad;
     p->x[PX_OMEGA] = cfg->locked_rotor ? 0.0 : cfg->omega_m0_rad_s;
     p->faults = (plant_faults_t){ .rotor_locked = cfg->locked_rotor, .source_connected = true };
@@ -527,8 +512,7 @@ int plant_init(plant_t *p, const plant_config_t *cfg)
         p->brake_on = link->brake_resistance_ohm > 0.0 && p->v0_link_V > link->brake_on_V;
     }
     p->rng_state = cfg->sensors.seed;
-    p->encoder_turns =
-        (int64_t)floor((cfg->theta_m0_rad + cfg->sensors.encoder.offset_rad) / PLANT_TWO_PI);
+    p->encoder_turns = plant_encoder_turn(cfg->theta_m0_rad, cfg->sensors.encoder.offset_rad);
     const plant_source_t src = { .kind = PLANT_SRC_INVERTER,
                                  .duty = { 0.5, 0.5, 0.5 },
                                  .v_dc_V = bus_voltage_at(p, 0.0) };
@@ -709,6 +693,7 @@ static plant_source_t inverter_source(plant_t *p, const double duty_abc[3], bool
 static double start_period(plant_t *p)
 {
     apply_faults(p);
+    p->exact_carry = false; /* the exact integrator restarts from theta_m */
     p->x[PX_VA_INT] = p->x[PX_VB_INT] = p->x[PX_VC_INT] = 0.0;
     return bus_voltage_at(p, p->t_s + 0.5 * p->period_s);
 }

@@ -25,6 +25,7 @@ void plant_config_default(plant_config_t *cfg)
     cfg->sensors.seed = 1u;
     sim_profile_clear(&cfg->load_torque_Nm);
     cfg->substeps_per_period = PLANT_DEFAULT_SUBSTEPS;
+    cfg->solver_method = PLANT_SOLVER_EXACT;
 }
 
 #define ADC_MAX_BITS      24u
@@ -227,6 +228,10 @@ int plant_config_validate(const plant_config_t *cfg, const char **msg)
     if (rc == PLANT_OK &&
         (cfg->substeps_per_period == 0u || cfg->substeps_per_period > SUBSTEPS_MAX)) {
         rc = fail(msg, PLANT_ERR_SOLVER, "substeps_per_period must be in 1..100000");
+    }
+    if (rc == PLANT_OK && cfg->solver_method != PLANT_SOLVER_EXACT &&
+        cfg->solver_method != PLANT_SOLVER_RK4) {
+        rc = fail(msg, PLANT_ERR_SOLVER, "solver_method is not a plant_solver_method_t");
     }
     if (rc == PLANT_OK && cfg->inverter.duty_update == PLANT_DUTY_UPDATE_HALF_PERIOD &&
         cfg->substeps_per_period % 2u != 0u) {

@@ -26,7 +26,7 @@ double plant_cogging_torque(const plant_t *p, double theta_m_rad)
     return tau;
 }
 
-static double friction_torque(const plant_motor_params_t *m, double omega)
+double plant_friction_torque(const plant_motor_params_t *m, double omega)
 {
     double tau = m->B_Nm_s_rad * omega;
     if (m->tau_coulomb_Nm > 0.0) {
@@ -235,7 +235,7 @@ void plant_derivatives(const plant_t *p, const plant_source_t *src, double t_s, 
     const double tau_e = 1.5 * p->n_p * (p->psi_Wb * i_q + (p->Ld_H - p->Lq_H) * i_d * i_q);
     const double tau_load = sim_profile_eval_on_piece(&p->cfg.load_torque_Nm, t_s, t_piece_s);
     const double tau_cog = plant_cogging_torque(p, x[PX_THETA]);
-    const double tau_fric = friction_torque(m, omega_m);
+    const double tau_fric = plant_friction_torque(m, omega_m);
     if (p->faults.rotor_locked) {
         dx[PX_OMEGA] = 0.0;
         dx[PX_THETA] = 0.0;

@@ -81,4 +81,7 @@ void plant_derivatives(const plant_t *p, const plant_source_t *src, double t_s, 
 /* tau_cog(theta_m) = sum_k A_k cos(k Q theta_m + phi_k) [N m]. */
 double plant_cogging_torque(const plant_t *p, double theta_m_rad);
 
+/* B omega + the smoothed Coulomb torque at omega [N m]. */
+double plant_friction_torque(const plant_motor_params_t *m, double omega_rad_s);
+
 #endif /* SIM_PLANT_DYNAMICS_H */

@@ -2,7 +2,10 @@
 
 #include "plant.h"
 #include "plant_frames.h"
+#include "plant_sensors.h"
 #include "sim_rng.h"
+
+#define TURN_MODULUS 9007199254740992.0 /* 2^53 */
 
 /* Standard normal draw (Box-Muller on the plant's PRNG; pairs cached). */
 static double gaussian(plant_t *p)
@@ -56,6 +59,12 @@ static double measure_vdc(plant_t *p, double v_dc_V)
     return quantise(v, s->full_scale_V / codes, 0.0, codes - 1.0);
 }
 
+int64_t plant_encoder_turn(double theta_m_rad, double offset_rad)
+{
+    const double turns = floor((theta_m_rad + offset_rad) / PLANT_TWO_PI);
+    return isfinite(turns) ? (int64_t)fmod(turns, TURN_MODULUS) : 0;
+}
+
 void plant_sample(plant_t *p, plant_measurement_t *m)
 {
     const plant_true_state_t *v = &p->view;
@@ -68,13 +77,15 @@ void plant_sample(plant_t *p, plant_measurement_t *m)
     const plant_encoder_t *enc = &p->cfg.sensors.encoder;
     m->encoder_count = 0u;
     m->encoder_index = false;
-    if (enc->lines > 0u) {
+    const double revs = (v->theta_m_rad + enc->offset_rad) / PLANT_TWO_PI;
+    /* no count for a non-finite angle (a diverged plant state) */
+    if (enc->lines > 0u && isfinite(revs)) {
         const double cpr = 4.0 * (double)enc->lines;
-        const double revs = (v->theta_m_rad + enc->offset_rad) / PLANT_TWO_PI;
-        const double turns = floor(revs);
-        uint32_t count = (uint32_t)floor((revs - turns) * cpr);
+        /* the fraction of a turn is in [0, 1): the count fits cpr <= 2^30 */
+        uint32_t count = (uint32_t)floor((revs - floor(revs)) * cpr);
         m->encoder_count = count >= (uint32_t)cpr ? 0u : count; /* rounding at 1.0 */
-        m->encoder_index = ((int64_t)turns != p->encoder_turns);
-        p->encoder_turns = (int64_t)turns;
+        const int64_t turn = plant_encoder_turn(v->theta_m_rad, enc->offset_rad);
+        m->encoder_index = (turn != p->encoder_turns);
+        p->encoder_turns = turn;
     }
 }

@@ -201,6 +201,18 @@ double sim_profile_eval_on_piece(const sim_profile_t *p, double t_s, double t_pi
     return v;
 }
 
+bool sim_profile_linear_on(const sim_profile_t *p, double t_a_s, double t_b_s, double *value,
+                           double *slope)
+{
+    if (p->n_sines > 0u || p->poly.n_coeffs > 0u || p->noise.rms > 0.0 ||
+        last_point_at_or_before(p, t_a_s) != last_point_at_or_before(p, t_b_s)) {
+        return false;
+    }
+    *value = points_eval(p, t_a_s, t_a_s);
+    *slope = (p->n_points == 0u) ? 0.0 : points_slope(p, t_a_s);
+    return true;
+}
+
 double sim_profile_deriv(const sim_profile_t *p, double t_s)
 {
     double d = points_slope(p, t_s);

@@ -53,10 +53,11 @@ bool scenario_from_json(const cJSON *root_json, scenario_t *out, scn_error_t *er
         jr_object_opt(&root, "output", &output) &&
         jr_u32_opt(&output, "trace_decimation", 1, 1000000, 20, &out->trace_decimation) &&
         jr_finish(&output) && jr_finish(&root);
-    if (ok) {
-        scenario_apply_time_offset(out);
+    if (!ok) {
+        return false;
     }
-    return ok;
+    scenario_apply_time_offset(out);
+    return scenario_check_bounds(&root, out);
 }
 
 /* "dir/p001_foc.json" -> "p001_foc" when the scenario has no name. */

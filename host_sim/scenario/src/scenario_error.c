@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sim/text_escape.h"
+
 static void copy_text(char *dst, size_t size, const char *src)
 {
     snprintf(dst, size, "%s", src != NULL ? src : "");
@@ -50,24 +52,38 @@ const char *scenario_error_class_str(scn_status_t code)
     return "unknown error";
 }
 
+/* The escaped copies of the record's texts (sim/text_escape.h): keys,
+ * values and file names come from the user and reach a terminal. An
+ * escape takes at most 4 bytes per input byte. */
+typedef struct {
+    char file[4 * sizeof(((scn_error_t *)0)->file)];
+    char path[4 * SCN_PATH_MAX];
+    char expected[4 * SCN_TEXT_MAX];
+    char found[4 * SCN_TEXT_MAX];
+} escaped_error_t;
+
 int scenario_error_format(const scn_error_t *err, char *buf, size_t size)
 {
-    char where[sizeof(err->file) + sizeof(err->path) + 32];
-    const char *file = err->file[0] != '\0' ? err->file : "<scenario>";
+    escaped_error_t e;
+    text_escape(err->file[0] != '\0' ? err->file : "<scenario>", e.file, sizeof(e.file));
+    text_escape(err->path, e.path, sizeof(e.path));
+    text_escape(err->expected, e.expected, sizeof(e.expected));
+    text_escape(err->found, e.found, sizeof(e.found));
+    char where[sizeof(e.file) + sizeof(e.path) + 32];
     if (err->line > 0) {
-        snprintf(where, sizeof(where), "%s:%d:%d", file, err->line, err->column);
-    } else if (err->path[0] != '\0') {
-        snprintf(where, sizeof(where), "%s: %s", file, err->path);
+        snprintf(where, sizeof(where), "%s:%d:%d", e.file, err->line, err->column);
+    } else if (e.path[0] != '\0') {
+        snprintf(where, sizeof(where), "%s: %s", e.file, e.path);
     } else {
-        snprintf(where, sizeof(where), "%s", file);
+        snprintf(where, sizeof(where), "%s", e.file);
     }
-    char detail[2 * SCN_TEXT_MAX + 32] = "";
-    if (err->expected[0] != '\0' && err->found[0] != '\0') {
-        snprintf(detail, sizeof(detail), ": expected %s, found %s", err->expected, err->found);
-    } else if (err->expected[0] != '\0') {
-        snprintf(detail, sizeof(detail), ": expected %s", err->expected);
-    } else if (err->found[0] != '\0') {
-        snprintf(detail, sizeof(detail), ": found %s", err->found);
+    char detail[sizeof(e.expected) + sizeof(e.found) + 32] = "";
+    if (e.expected[0] != '\0' && e.found[0] != '\0') {
+        snprintf(detail, sizeof(detail), ": expected %s, found %s", e.expected, e.found);
+    } else if (e.expected[0] != '\0') {
+        snprintf(detail, sizeof(detail), ": expected %s", e.expected);
+    } else if (e.found[0] != '\0') {
+        snprintf(detail, sizeof(detail), ": found %s", e.found);
     }
     return snprintf(buf, size, "%s: %s%s", where, scenario_error_class_str(err->code), detail);
 }

@@ -3,14 +3,17 @@
  * "firmware.<block>.<field>", and "firmware.controller" /
  * "firmware.estimator" by the names of the firmware's lists); absent keys
  * keep the values of mc_config_init_default(). The values the plant
- * determines (the nominal motor, the PWM rate, the encoder resolution) come
+ * determines (the nominal motor, the PWM rate, the inverter's dead time and
+ * device drop, the encoder resolution) come
  * from the plant sections (sim_engine_firmware_from_plant) and are not keys
  * here. Ranges: the firmware's validation is the one judge; a rejected
- * configuration names the key whose default would make it valid. */
+ * configuration names the keys that can make it valid (firmware_blame.h). */
 #include <float.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h>
 
+#include "firmware_blame.h"
 #include "scenario_sections.h"
 
 #define MAX_BLOCKS 32
@@ -20,10 +23,12 @@ bool scenario_firmware_from_plant(const char *block, const char *field)
 {
     return strcmp(block, "motor") == 0 ||
            (strcmp(block, "timing") == 0 && strcmp(field, "f_pwm_Hz") == 0) ||
+           (strcmp(block, "deadtime") == 0 &&
+            (strcmp(field, "dead_time_s") == 0 || strcmp(field, "device_drop_V") == 0)) ||
            (strcmp(block, "encoder") == 0 && strcmp(field, "counts_per_rev") == 0);
 }
 
-static size_t field_size(mc_param_type_t type)
+size_t scenario_firmware_field_size(mc_param_type_t type)
 {
     switch (type) {
     case MC_PARAM_F32: return sizeof(float);
@@ -60,7 +65,7 @@ static bool read_field(jr_object_t *o, const mc_param_t *p, unsigned char *field
         mc_controller_t controller;
         mc_estimator_t estimator;
     } v;
-    memcpy(&v, field, field_size(p->type));
+    memcpy(&v, field, scenario_firmware_field_size(p->type));
     bool ok = false;
     double d = 0.0;
     size_t index = 0;
@@ -84,7 +89,7 @@ static bool read_field(jr_object_t *o, const mc_param_t *p, unsigned char *field
         break;
     }
     if (ok) {
-        memcpy(field, &v, field_size(p->type));
+        memcpy(field, &v, scenario_firmware_field_size(p->type));
     }
     return ok;
 }
@@ -102,78 +107,21 @@ static bool read_block(jr_object_t *o, const mc_param_block_t *b, mc_config_t *c
     return true;
 }
 
-/* The first given key of block b whose firmware default makes cfg valid. */
-static const char *blame_in_block(jr_object_t *o, const mc_param_block_t *b, const mc_config_t *cfg,
-                                  const mc_config_t *defaults)
+/* An estimator that reads the encoder needs one: sensors.encoder.lines 0
+ * (no encoder) is for the sensorless estimators. */
+static bool encoder_present(jr_object_t *root, const plant_config_t *plant, const mc_config_t *cfg)
 {
-    for (const mc_param_t *p = b->params; p->name != NULL; p++) {
-        if (scenario_firmware_from_plant(b->name, p->name) || jr_peek(o, p->name) == NULL) {
-            continue;
-        }
-        mc_config_t trial = *cfg;
-        const size_t at = b->offset + p->offset;
-        memcpy((unsigned char *)&trial + at, (const unsigned char *)defaults + at,
-               field_size(p->type));
-        if (mc_config_validate(&trial) == MC_OK) {
-            return p->name;
-        }
+    if (plant->sensors.encoder.lines != 0u || mc_config_estimator_info(cfg).sensorless) {
+        return true;
     }
-    return NULL;
-}
-
-/* The first given key whose firmware default makes cfg valid; its block
- * object in *where. The selection (controller, estimator: the top-level
- * block) is tried last: choosing another controller or estimator switches
- * off the checks of the selected one's blocks, so it would "fix" any value
- * those blocks reject and hide the key that is really wrong. */
-static const char *blame(jr_object_t *objects, const mc_config_t *cfg, jr_object_t **where)
-{
-    mc_config_t defaults;
-    mc_config_init_default(&defaults);
-    const mc_param_block_t *top = NULL;
-    jr_object_t *top_object = NULL;
-    size_t i = 0;
-    for (const mc_param_block_t *b = mc_config_params(); b->name != NULL && i < MAX_BLOCKS;
-         b++, i++) {
-        if (b->name[0] == '\0') {
-            top = b;
-            top_object = &objects[i];
-            continue;
-        }
-        if (strcmp(b->name, "motor") == 0) {
-            continue;
-        }
-        const char *key = blame_in_block(&objects[i], b, cfg, &defaults);
-        if (key != NULL) {
-            *where = &objects[i];
-            return key;
-        }
-    }
-    if (top == NULL) {
-        return NULL;
-    }
-    *where = top_object;
-    return blame_in_block(top_object, top, cfg, &defaults);
-}
-
-/* mc_config_validate() rejected cfg: name the key if one alone is the cause. */
-static void report_rejected(jr_object_t *fw, jr_object_t *objects, const mc_config_t *cfg,
-                            mc_status_t st)
-{
-    const char *expected =
-        "a configuration mc_config_validate() accepts (each block's ranges in its header "
-        "under firmware/include/mc, loop bandwidths stable at the sampling rate, limits "
-        "consistent with the motor, the PWM rate and each other)";
-    const char *found = st == MC_ERR_NONFINITE ? "a non-finite value" : "a rejected value";
-    jr_object_t *where = NULL;
-    const char *key = blame(objects, cfg, &where);
-    if (key != NULL) {
-        jr_fail(where, key, SCN_ERR_INVALID, expected, found);
-        return;
-    }
-    scenario_error_set(fw->err, SCN_ERR_INVALID, fw->path, expected,
-                       "a rejected combination of motor, inverter, encoder and firmware "
-                       "values");
+    char expected[160];
+    snprintf(expected, sizeof(expected),
+             "%u..%u lines with firmware.estimator \"%s\", which reads the encoder (0, no "
+             "encoder, is for a sensorless estimator)",
+             (unsigned)SCENARIO_ENCODER_LINES_MIN, (unsigned)SCENARIO_ENCODER_LINES_MAX,
+             mc_estimator_name(cfg->estimator));
+    jr_fail(root, "sensors.encoder.lines", SCN_ERR_INVALID, expected, "0");
+    return false;
 }
 
 bool scenario_read_firmware(jr_object_t *root, const plant_config_t *plant, mc_config_t *cfg)
@@ -208,12 +156,12 @@ bool scenario_read_firmware(jr_object_t *root, const plant_config_t *plant, mc_c
             *o = fw;
         }
     }
-    if (!jr_finish(&fw)) {
+    if (!jr_finish(&fw) || !encoder_present(root, plant, cfg)) {
         return false;
     }
     const mc_status_t st = mc_config_validate(cfg);
     if (st != MC_OK) {
-        report_rejected(&fw, objects, cfg, st);
+        scenario_firmware_blame(&fw, objects, cfg, st);
         return false;
     }
     return true;

@@ -6,6 +6,7 @@
 #include "mc/encoder_tracker.h"
 #include "mc/motor.h"
 #include "mc/timing.h"
+#include "motor_convention.h"
 #include "profile_reader.h"
 #include "scenario_sections.h"
 
@@ -24,20 +25,27 @@ static bool read_per_phase(jr_object_t *obj, const char *key, jr_range_t range, 
     return true;
 }
 
+/* motor: the parameters in the frame "convention" names
+ * (motor_convention.h), converted once here to the plant's. */
 static bool read_motor(jr_object_t *root, plant_motor_params_t *m)
 {
+    static const char *const conventions[] = { "amplitude_invariant", "power_invariant" };
     jr_object_t o;
     uint64_t pole_pairs;
-    bool ok = jr_object(root, "motor", &o) && jr_number(&o, "R_ohm", JR_POSITIVE(1e3), &m->R_ohm) &&
-              jr_number(&o, "Ld_H", JR_POSITIVE(10.0), &m->Ld_H) &&
-              jr_number_opt(&o, "Lq_H", JR_POSITIVE(10.0), m->Ld_H, &m->Lq_H) &&
-              jr_number(&o, "psi_Wb", JR_POSITIVE(10.0), &m->psi_Wb) &&
-              jr_uint(&o, "pole_pairs", 1, MC_MOTOR_POLE_PAIRS_MAX, &pole_pairs) &&
-              jr_number(&o, "J_kgm2", JR_POSITIVE(1e3), &m->J_kgm2) &&
-              jr_number_opt(&o, "B_Nm_s_rad", JR_CLOSED(0.0, 1e3), 0.0, &m->B_Nm_s_rad) &&
-              jr_finish(&o);
+    size_t convention;
+    bool ok =
+        jr_object(root, "motor", &o) &&
+        jr_enum_opt(&o, "convention", conventions, 2, PLANT_AMPLITUDE_INVARIANT, &convention) &&
+        jr_number(&o, "R_ohm", JR_POSITIVE(1e3), &m->R_ohm) &&
+        jr_number(&o, "Ld_H", JR_POSITIVE(10.0), &m->Ld_H) &&
+        jr_number_opt(&o, "Lq_H", JR_POSITIVE(10.0), m->Ld_H, &m->Lq_H) &&
+        jr_number(&o, "psi_Wb", JR_POSITIVE(10.0), &m->psi_Wb) &&
+        jr_uint(&o, "pole_pairs", 1, MC_MOTOR_POLE_PAIRS_MAX, &pole_pairs) &&
+        jr_number(&o, "J_kgm2", JR_POSITIVE(1e3), &m->J_kgm2) &&
+        jr_number_opt(&o, "B_Nm_s_rad", JR_CLOSED(0.0, 1e3), 0.0, &m->B_Nm_s_rad) && jr_finish(&o);
     if (ok) {
         m->pole_pairs = (uint32_t)pole_pairs;
+        plant_motor_to_amplitude_invariant(m, (plant_motor_convention_t)convention);
     }
     return ok;
 }
@@ -176,7 +184,7 @@ static bool read_sensors(jr_object_t *root, plant_sensor_params_t *s)
     jr_object_t enc;
     return jr_object_opt(root, "sensors", &o) && read_current_sensor(&o, &s->current) &&
            read_vdc_sensor(&o, &s->vdc) && jr_object_opt(&o, "encoder", &enc) &&
-           jr_u32_opt(&enc, "lines", 0, MC_ENCODER_CPR_MAX / 4u, s->encoder.lines,
+           jr_u32_opt(&enc, "lines", 0, SCENARIO_ENCODER_LINES_MAX, s->encoder.lines,
                       &s->encoder.lines) &&
            jr_number_opt(&enc, "offset_rad", JR_CLOSED(-1e3, 1e3), s->encoder.offset_rad,
                          &s->encoder.offset_rad) &&

@@ -31,6 +31,10 @@ bool scenario_read_metrics(jr_object_t *root, double duration_s, scenario_metric
  * windows from profile time to simulated time (after all sections). */
 void scenario_apply_time_offset(scenario_t *s);
 
+/* The load torque and the bus voltage stay physically meaningful over the
+ * whole run (scenario_bounds.c); after the time offset is applied. */
+bool scenario_check_bounds(jr_object_t *root, const scenario_t *s);
+
 /* fault_injections -> engine injections. */
 bool scenario_read_injections(jr_object_t *root, sim_injection_t *out, size_t *n_out);
 

@@ -18,6 +18,7 @@
 #include <cjson/cJSON.h>
 
 #include "mc/app.h"
+#include "mc/encoder_tracker.h"
 #include "plant.h"
 #include "profile.h"
 #include "sim/scenario_error.h"
@@ -30,6 +31,13 @@
 #define SCENARIO_MAX_LOAD_STEPS  8
 #define SCENARIO_MAX_WINDOWS     8
 #define SCENARIO_WINDOW_NAME_MAX 32
+
+/* sensors.encoder.lines: the firmware counts 4 x lines per revolution (x4
+ * quadrature) within [MC_ENCODER_CPR_MIN, MC_ENCODER_CPR_MAX] (1 to
+ * 2,097,152 lines); 0 is no encoder, for a sensorless estimator only.
+ * README and `pmsm-sim keys` state this range from these constants. */
+#define SCENARIO_ENCODER_LINES_MIN ((MC_ENCODER_CPR_MIN + 3u) / 4u)
+#define SCENARIO_ENCODER_LINES_MAX (MC_ENCODER_CPR_MAX / 4u)
 
 typedef struct {
     mc_mode_t mode;

@@ -125,6 +125,14 @@ MUT(i2t_peak_nan, c->protection.i2t_peak_A = NAN)
 MUT(sum_max_zero, c->protection.current_sum_max_A = 0.0f)
 MUT(sum_time_zero, c->protection.current_sum_time_s = 0.0f)
 MUT(sum_time_short, c->protection.current_sum_time_s = 2e-5f) /* round(0.4) = 0 */
+/* Dead-time compensation (mc/deadtime_comp.h): the error per period as a
+ * duty, t_d f + v_f / v_dc_min, at most 0.1 (20 kHz, v_dc_min 20 V). */
+MUT(dt_ok, c->deadtime.dead_time_s = 1e-6f)
+MUT(dt_neg, c->deadtime.dead_time_s = -1e-6f)
+MUT(dt_big, c->deadtime.dead_time_s = 6e-6f)                                          /* 0.12 */
+MUT(dt_drop_big, (c->deadtime.dead_time_s = 4e-6f, c->deadtime.device_drop_V = 0.5f)) /* 0.105 */
+MUT(dt_band_zero, c->deadtime.current_band_A = 0.0f)
+MUT(dt_band_nan, c->deadtime.current_band_A = NAN)
 /* Selection. */
 MUT(est_bad, c->estimator = (mc_estimator_t)5)
 MUT(est_count, c->estimator = MC_ESTIMATOR_COUNT)
@@ -231,6 +239,12 @@ static const struct {
     CASE(cl_time_short, MC_ERR_PARAM),
     CASE(cl_time_one, MC_OK),
     CASE(cl_time_nan, MC_ERR_NONFINITE),
+    CASE(dt_ok, MC_OK),
+    CASE(dt_neg, MC_ERR_PARAM),
+    CASE(dt_big, MC_ERR_PARAM),
+    CASE(dt_drop_big, MC_ERR_PARAM),
+    CASE(dt_band_zero, MC_ERR_PARAM),
+    CASE(dt_band_nan, MC_ERR_NONFINITE),
     CASE(os_zero, MC_ERR_PARAM),
     CASE(os_at_wmax, MC_ERR_PARAM),
     CASE(os_above_wmax, MC_OK),

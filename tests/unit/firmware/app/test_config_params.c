@@ -177,6 +177,7 @@ static void test_blocks_at_their_members(void **state)
                      { "limits", offsetof(mc_config_t, limits) },
                      { "protection", offsetof(mc_config_t, protection) },
                      { "current", offsetof(mc_config_t, current) },
+                     { "deadtime", offsetof(mc_config_t, deadtime) },
                      { "position", offsetof(mc_config_t, position) },
                      { "align", offsetof(mc_config_t, align) },
                      { "flux_obs", offsetof(mc_config_t, flux_obs) },
@@ -321,11 +322,11 @@ static void test_every_float_is_checked(void **state)
             }
         }
     }
-    /* motor 6, timing 4, limits 2, protection 17, current 2, position 1,
+    /* motor 6, timing 4, limits 2, protection 17, current 2, deadtime 3, position 1,
      * align 8, flux_obs 3, emf_check 7, foc_pi 1, idapbc 3, encoder 2,
      * flux_ii 2, flux_pll 1 (the float members of mc/config.h and its
      * blocks). */
-    assert_int_equal(n_f32, 59u);
+    assert_int_equal(n_f32, 62u);
 }
 
 int main(void)

@@ -176,6 +176,46 @@ static void test_encoder_index(void **state)
     assert_int_equal(want, 2);
 }
 
+/* The encoder where the turn count does not fit an int64_t: a huge load
+ * torque (9e24 N m, the reported case) drives the plant state to NaN in
+ * the first period, and an angle of 1e30 rad is 1.6e29 turns. Converting
+ * those turns to int64_t is undefined (UBSan's float-cast-overflow stops
+ * the test; on x86 it yields INT64_MIN, so the first NaN sample flagged an
+ * index). Now: a non-finite angle reads count 0 and no index; a huge finite
+ * one the count floor(frac(rev) cpr) computed here, no index at rest. */
+static void test_encoder_at_huge_angles(void **state)
+{
+    (void)state;
+    plant_config_t c;
+    plant_config_default(&c);
+    c.sensors.encoder = (plant_encoder_t){ .lines = 1000u, .offset_rad = 0.0 };
+    sim_profile_set_constant(&c.load_torque_Nm, 9e24);
+    plant_t p;
+    assert_int_equal(plant_init(&p, &c), PLANT_OK);
+    const double duty[3] = { 0.5, 0.5, 0.5 };
+    plant_measurement_t m;
+    for (int k = 0; k < 4; ++k) {
+        plant_advance(&p, duty, k % 2 == 0);
+        plant_sample(&p, &m);
+        assert_false(isfinite(plant_true_state(&p)->theta_m_rad)); /* diverged at once */
+        assert_int_equal(m.encoder_count, 0u);
+        assert_false(m.encoder_index);
+    }
+    const double huge_rad = 1e30;
+    c.theta_m0_rad = huge_rad;
+    c.locked_rotor = true;
+    sim_profile_set_constant(&c.load_torque_Nm, 0.0);
+    assert_int_equal(plant_init(&p, &c), PLANT_OK);
+    const double rev = huge_rad / MC_TEST_TWO_PI;
+    const uint32_t want = (uint32_t)floor((rev - floor(rev)) * 4000.0);
+    for (int k = 0; k < 2; ++k) {
+        plant_advance(&p, duty, false);
+        plant_sample(&p, &m);
+        assert_int_equal(m.encoder_count, want);
+        assert_false(m.encoder_index);
+    }
+}
+
 /* Same seed: identical samples; another seed: different noise. Load noise
  * (profile) and sensor noise both included. */
 static void run_noisy(uint64_t seed, double out[64])
@@ -224,6 +264,7 @@ int main(void)
         cmocka_unit_test(test_vdc_sensing),
         cmocka_unit_test(test_encoder_counts),
         cmocka_unit_test(test_encoder_index),
+        cmocka_unit_test(test_encoder_at_huge_angles),
         cmocka_unit_test(test_determinism_per_seed),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

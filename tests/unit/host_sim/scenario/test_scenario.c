@@ -337,34 +337,45 @@ static void reference_modes_and_units(void **state)
     assert_string_equal(err.path, "reference.position_rad");
 }
 
-/* mc_config_validate() rejects: the first given firmware key (in the order of
- * mc_config_params()) whose firmware default makes the configuration valid is
- * named (scenario_firmware.c, blame()); "firmware" when no single key is. */
+/* mc_config_validate() rejects: the number keys that alone can make the
+ * configuration valid are named (firmware_blame.h), with a value that
+ * does; "firmware" when no single key can. */
 static void rejected_firmware_names_the_key(void **state)
 {
     (void)state;
     /* speed bandwidth above 0.2 x the default current bandwidth (2513 rad/s)
-     * and w_s Ts_slow = 0.5 > 0.2: its default (50 rad/s) is valid */
+     * and w_s Ts_slow = 0.5 > 0.2: valid up to 0.2 / Ts_slow = 400 rad/s
+     * (2 kHz slow loop), and no other key alone helps */
     const char *too_fast[] = { "firmware.foc_pi.speed_bandwidth_rad_s=1000" };
     assert_false(load(valid_doc, too_fast, 1));
     assert_int_equal(err.code, SCN_ERR_INVALID);
     assert_string_equal(err.path, "firmware.foc_pi.speed_bandwidth_rad_s");
     assert_non_null(strstr(err.expected, "mc_config_validate() accepts"));
-    assert_string_equal(err.found, "a rejected value");
+    assert_non_null(strstr(err.expected, "e.g. foc_pi.speed_bandwidth_rad_s = 400"));
+    assert_string_equal(err.found, "foc_pi.speed_bandwidth_rad_s = 1000");
     /* trip level below the default current limit (10 A) */
     const char *low_trip[] = { "firmware.protection.i_trip_A=5" };
     assert_false(load(valid_doc, low_trip, 1));
     assert_int_equal(err.code, SCN_ERR_INVALID);
     assert_string_equal(err.path, "firmware.protection.i_trip_A");
-    /* no single firmware key is at fault: a 2 kHz PWM is too slow for the
-     * default current loop (w_c Ts = 1.26 > 0.5) */
+    /* a 2 kHz PWM is too slow for the default current loop (w_c Ts = 1.26
+     * > 0.5): the current bandwidth, not given, is named with a valid
+     * value, w_c <= 0.5 / Ts = 1000 rad/s */
     const char *slow_pwm[] = { "inverter.f_pwm_Hz=2000" };
     assert_false(load(valid_doc, slow_pwm, 1));
+    assert_int_equal(err.code, SCN_ERR_INVALID);
+    assert_string_equal(err.path, "firmware.current.bandwidth_rad_s");
+    assert_non_null(strstr(err.expected, "e.g. current.bandwidth_rad_s = 1000"));
+    assert_string_equal(err.found, "current.bandwidth_rad_s = 2513 (default)");
+    /* no single firmware key can help at 1 kHz: the slow loop (2 kHz)
+     * must divide the PWM rate and the current loop slow down, both */
+    const char *slowest_pwm[] = { "inverter.f_pwm_Hz=1000" };
+    assert_false(load(valid_doc, slowest_pwm, 1));
     assert_int_equal(err.code, SCN_ERR_INVALID);
     assert_string_equal(err.path, "firmware");
     assert_non_null(strstr(err.found, "rejected combination"));
     /* the same without a "firmware" section */
-    const char *no_section[] = { "inverter.f_pwm_Hz=2000", "firmware={}" };
+    const char *no_section[] = { "inverter.f_pwm_Hz=1000", "firmware={}" };
     assert_false(load(valid_doc, no_section, 2));
     assert_int_equal(err.code, SCN_ERR_INVALID);
     assert_string_equal(err.path, "firmware");
@@ -402,13 +413,13 @@ static void sensorless_rules_blame_the_value(void **state)
     assert_false(load(valid_doc, align, 2));
     assert_int_equal(err.code, SCN_ERR_INVALID);
     assert_string_equal(err.path, "firmware.align.current_A");
-    /* the ramp within the alignment timeout (2 s) */
+    /* the ramp within the alignment timeout (2 s): either key alone */
     const char *ramp_encoder[] = { "firmware.align.ramp_s=2.5" };
     assert_true(load(valid_doc, ramp_encoder, 1));
     const char *ramp[] = { "firmware.estimator=flux_ii", "firmware.align.ramp_s=2.5" };
     assert_false(load(valid_doc, ramp, 2));
     assert_int_equal(err.code, SCN_ERR_INVALID);
-    assert_string_equal(err.path, "firmware.align.ramp_s");
+    assert_string_equal(err.path, "firmware.align.ramp_s, firmware.align.timeout_s");
     /* flux ratio bounds: ratio_min in (0, 1) (was SCN_ERR_RANGE in format 1) */
     const char *ratio_encoder[] = { "firmware.flux_obs.ratio_min=1.2" };
     assert_true(load(valid_doc, ratio_encoder, 1));
@@ -599,6 +610,8 @@ static const field_case_t field_cases[] = {
     { "emf_check.ratio_high", CTX_ENCODER, 3.0 },
     { "current.bandwidth_rad_s", CTX_ENCODER, 3000.0 },
     { "current.modulation_margin", CTX_ENCODER, 0.9 },
+    { "deadtime.current_band_A", CTX_ENCODER, 0.3 },
+    { "deadtime.compensation", CTX_ENCODER, 0.0 },
     { "position.kp_per_s", CTX_ENCODER, 10.0 },
     { "align.current_A", CTX_FLUX_PLL, 3.0 },
     { "align.ramp_s", CTX_FLUX_PLL, 0.2 },
@@ -616,6 +629,7 @@ static const field_case_t field_cases[] = {
     { "idapbc.integral_enabled", CTX_FLUX_II, 1.0 },
     { "idapbc.integral_pole_rad_s", CTX_FLUX_II, 15.0 },
     { "idapbc.integral_tau_max_Nm", CTX_FLUX_II, 2.0 },
+    { "idapbc.paper_rotation", CTX_FLUX_II, 1.0 },
     { "encoder.offset_e_rad", CTX_ENCODER, 0.5 },
     { "encoder.pll_bandwidth_rad_s", CTX_ENCODER, 800.0 },
     { "flux_ii.a1", CTX_FLUX_II, 25.0 },
@@ -632,6 +646,8 @@ static bool from_plant(const char *block, const char *field)
 {
     return strcmp(block, "motor") == 0 ||
            (strcmp(block, "timing") == 0 && strcmp(field, "f_pwm_Hz") == 0) ||
+           (strcmp(block, "deadtime") == 0 &&
+            (strcmp(field, "dead_time_s") == 0 || strcmp(field, "device_drop_V") == 0)) ||
            (strcmp(block, "encoder") == 0 && strcmp(field, "counts_per_rev") == 0);
 }
 
@@ -913,6 +929,37 @@ static void inverter_duty_update(void **state)
     assert_int_equal(scn.plant.substeps_per_period, 6);
 }
 
+/* motor.convention: the parameters' frame, converted once to the plant's
+ * (motor_convention.h): power-invariant psi is the plant's times sqrt(3/2)
+ * (power and torque invariant, currents sqrt(3/2) larger); the firmware
+ * takes the converted value; the other parameters and the mismatch are
+ * untouched. */
+static void motor_convention(void **state)
+{
+    (void)state;
+    load_ok(valid_doc, NULL, 0);
+    assert_true(scn.plant.motor.psi_Wb == 0.17); /* amplitude-invariant */
+    const char *amp[] = { "motor.convention=amplitude_invariant" };
+    load_ok(valid_doc, amp, 1);
+    assert_true(scn.plant.motor.psi_Wb == 0.17);
+    const char *pow[] = { "motor.convention=power_invariant" };
+    load_ok(valid_doc, pow, 1);
+    const double psi = 0.17 * sqrt(2.0 / 3.0);
+    assert_true(fabs(scn.plant.motor.psi_Wb - psi) <= 1e-15);
+    assert_true(scn.firmware.motor.psi_Wb == (float)scn.plant.motor.psi_Wb);
+    /* the same machine: torque per A of the paper's current (n_p Phi)
+     * times the paper's current per plant current (sqrt(3/2)) is the
+     * plant's 1.5 n_p psi */
+    assert_true(fabs(3.0 * 0.17 * sqrt(1.5) - 1.5 * 3.0 * scn.plant.motor.psi_Wb) <= 1e-12);
+    assert_true(scn.plant.motor.R_ohm == 0.5 && scn.plant.motor.Ld_H == 0.004 &&
+                scn.plant.motor.J_kgm2 == 0.012 && scn.plant.mismatch.R == 1.5);
+    const char *bad[] = { "motor.convention=two_phase" };
+    assert_false(load(valid_doc, bad, 1));
+    assert_int_equal(err.code, SCN_ERR_RANGE);
+    assert_string_equal(err.path, "motor.convention");
+    assert_string_equal(err.expected, "one of \"amplitude_invariant\", \"power_invariant\"");
+}
+
 /* time_offset_s moves the reference, the load and the metric windows (not
  * the fault injections or duration_s) from profile to simulated time. */
 static void time_offset_shifts_profiles_and_windows(void **state)
@@ -1068,6 +1115,7 @@ int main(void)
         cmocka_unit_test(plant_values_are_not_firmware_keys),
         cmocka_unit_test(controller_and_estimator_names),
         cmocka_unit_test(inverter_duty_update),
+        cmocka_unit_test(motor_convention),
         cmocka_unit_test(time_offset_shifts_profiles_and_windows),
         cmocka_unit_test(named_window_errors),
         cmocka_unit_test(bad_override_syntax),

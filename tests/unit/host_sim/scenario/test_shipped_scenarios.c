@@ -45,7 +45,9 @@ static void check_motor(double R_ohm, double Ld_H, double Lq_H, double psi_Wb, i
  * profile time tb = t - t0 (t0: calibration and alignment before tb = 0). */
 static void check_paper001_benchmark(double t0)
 {
-    check_motor(0.225, 3.8e-3, 3.8e-3, 0.17, 3, 0.012);
+    /* the paper's Phi = 0.17 Wb is two-phase (power-invariant): the
+     * plant's psi is Phi sqrt(2/3) (motor_convention.h) */
+    check_motor(0.225, 3.8e-3, 3.8e-3, 0.17 * sqrt(2.0 / 3.0), 3, 0.012);
     near(scn.plant.inverter.f_pwm_Hz, 20e3);
     near(scn.time_offset_s, t0);
     near(scn.duration_s, 10.0 + t0);
@@ -164,7 +166,7 @@ static void expect_robustness_case(const char *file, const char *base_file, doub
     near(scn.firmware.motor.R_ohm, 0.225f);
     near(scn.firmware.motor.Ld_H, 3.8e-3f);
     near(scn.firmware.motor.Lq_H, 3.8e-3f);
-    near(scn.firmware.motor.psi_Wb, 0.17f);
+    near(scn.firmware.motor.psi_Wb, (float)(0.17 * sqrt(2.0 / 3.0)));
     /* otherwise the base */
     near(scn.duration_s, base.duration_s);
     near(scn.time_offset_s, base.time_offset_s);
@@ -239,7 +241,7 @@ static void paper000_position(void **state)
     (void)state;
     load("paper000_position_foc.json");
     /* L = Ld = Lq = 20 mH, j = 0.55367 kg cm^2 */
-    check_motor(7.2, 20e-3, 20e-3, 0.06, 8, 0.55367e-4);
+    check_motor(7.2, 20e-3, 20e-3, 0.06 * sqrt(2.0 / 3.0), 8, 0.55367e-4); /* two-phase, too */
     const plant_motor_params_t *m = &scn.plant.motor;
     near(m->B_Nm_s_rad, 0.006);
     near(m->g3_amplitude_per_kgm2, 1e4);
@@ -291,6 +293,45 @@ static void readme_full_example_is_valid(void **state)
     near(scn.metrics.step_end_s, 1.0);
 }
 
+/* The realistic variants: the base benchmark with the inverter and
+ * sensors of tests/sim/test_p001_realistic.c (whose acceptance they are),
+ * nothing else changed. */
+static void expect_realistic(const char *file, const char *base_file)
+{
+    load(base_file);
+    base = scn;
+    load(file);
+    const plant_inverter_params_t *inv = &scn.plant.inverter;
+    const plant_current_sensor_t *c = &scn.plant.sensors.current;
+    near(inv->t_dead_s, 1e-6);
+    near(inv->dead_time_current_band_A, 0.16);
+    near(c->noise_rms_A, 0.01);
+    assert_int_equal(c->adc_bits, 12);
+    near(c->full_scale_A, 25.0);
+    const double gain[3] = { 1.005, 0.995, 1.0 };
+    const double offset[3] = { 0.02, -0.02, 0.01 };
+    for (int x = 0; x < 3; ++x) {
+        near(c->gain[x], gain[x]);
+        near(c->offset_A[x], offset[x]);
+    }
+    assert_int_equal(scn.plant.sensors.vdc.adc_bits, 12);
+    near(scn.plant.sensors.vdc.full_scale_V, 100.0);
+    /* the firmware states the dead time and compensates it */
+    near(scn.firmware.deadtime.dead_time_s, (float)1e-6);
+    assert_true(scn.firmware.deadtime.compensation);
+    assert_int_equal(scn.firmware.controller, base.firmware.controller);
+    assert_int_equal(scn.firmware.estimator, base.firmware.estimator);
+    near(scn.duration_s, base.duration_s);
+    near(scn.plant.motor.psi_Wb, base.plant.motor.psi_Wb);
+}
+
+static void paper001_realistic(void **state)
+{
+    (void)state;
+    expect_realistic("paper001_idapbc_realistic.json", "paper001_benchmark_idapbc.json");
+    expect_realistic("paper001_nam_realistic.json", "paper001_benchmark_nam.json");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -298,6 +339,7 @@ int main(void)
         cmocka_unit_test(paper001_sensorless_nam), cmocka_unit_test(paper001_robustness_idapbc),
         cmocka_unit_test(paper001_robustness_nam), cmocka_unit_test(paper002_case1),
         cmocka_unit_test(paper000_position),       cmocka_unit_test(readme_full_example_is_valid),
+        cmocka_unit_test(paper001_realistic),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
