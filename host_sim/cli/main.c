@@ -165,11 +165,13 @@ static int command_bench(const cli_args_t *args, const scenario_t *s, char *msg)
     printf("bench %s: %.3f s simulated in %.3f s wall = %.3f simulated s per wall s "
            "(%.0f PWM periods/s)\n",
            name, res.sim_s, res.wall_s, res.sim_s / res.wall_s, (double)res.periods / res.wall_s);
-    printf("method: one engine step per PWM period (plant RK4 with %u substeps, host HAL,\n"
+    const plant_config_t *pc = &s->plant;
+    const bool exact = pc->solver_method == PLANT_SOLVER_EXACT && pc->motor.Ld_H == pc->motor.Lq_H;
+    printf("method: one engine step per PWM period (plant %s with %u substeps, host HAL,\n"
            "        firmware fast ISR with its decimated slow loop), single thread; wall time\n"
            "        of the step loop by CLOCK_MONOTONIC, excluding scenario loading, metrics\n"
            "        and outputs; one run, so repeat it to see the spread\n",
-           (unsigned)s->plant.substeps_per_period);
+           exact ? "exact (RK4 where not linear)" : "RK4", (unsigned)pc->substeps_per_period);
     printf("firmware ISR cost (host wall time) mean %.2f us, max %.2f us\n",
            1e6 * res.isr_cost_mean_s, 1e6 * res.isr_cost_max_s);
     return CLI_EXIT_OK;

@@ -145,8 +145,10 @@
  * switching plant in closed form (plant_exact.c): with the inverter's
  * voltage held, the stator current in d-q is the exact solution of
  * L di/dt = v - R i - j omega_e (L i + psi) for omega_e held at the
- * substep's mean speed, plus the first correction for the speed's change
- * within the substep; the rotor angle is advanced as a unit vector
+ * substep's mean speed (the back-EMF's response by the Taylor series of
+ * (exp(z) - 1) / z, z = (R / L + j omega_e) h, while |z| <= 2^-10: no
+ * division), plus the first correction for the speed's change within the
+ * substep; the rotor angle is advanced as a unit vector
  * (exp(j omega_e h) by its Taylor series, no libm call a substep); the
  * speed from the mean electrical torque (trapezoid with end correction,
  * exact for cubics) and the other torques at the substep's middle; the
@@ -369,6 +371,7 @@ typedef struct {
     bool usable;                       /* solver_method EXACT and Ld == Lq */
     double decay;                      /* E = exp(-R h / L) */
     double one_minus_decay;            /* 1 - E, without cancellation */
+    double decay_arg;                  /* R h / L */
     double input_gain_A_per_V;         /* (1 - E) / R; h / L when R == 0 */
     double quad_s2;                    /* h^2 / 12: the end correction of the quadratures */
     double inv_L_per_H;                /* 1 / L */
@@ -377,6 +380,11 @@ typedef struct {
     double torque_const_Nm_per_A;      /* 1.5 n_p psi */
     double kt_h_2, kt_h_3;             /* torque constant x h / 2, h / 3 */
     double kt_h2_6, kt_h2_8, kt_h2_12; /* ... x h^2 / 6, / 8, / 12 */
+    double turn_per_speed_s;           /* n_p h: the rotor's electrical turn per unit speed */
+    double path_gain_A_s2;             /* n_p h^3 / 12 (R / L) (psi / L): the angle-path term */
+    double path_q_factor;              /* 1 - (R / L) h / 2 */
+    double iq_end_weight_s;            /* h / 2 + (h^2 / 12) R / L: i_q1's weight in int i_q */
+    double back_emf_A[5];              /* (psi / L) E phi_1^(n)(R h / L) / n!, n = 0..4 */
 } plant_exact_consts_t;
 
 /* Private: the caller owns the storage; use the functions below. */

@@ -1,7 +1,7 @@
-/* Throughput and accuracy of the fast integrator option against the 1 us
- * RK4 reference: paper 001 motor, 20 kHz, random duties around a rotating
- * back-EMF-matched voltage, 1 s (CPU time). Deviation: test_plant_electrical.
- * Usage: plant_bench [rpm] [band_A] [t_dead_s]
+/* Throughput of the plant alone at 1 us and at the fast option, with the
+ * default integrator (plant.h, "Integrators"): paper 001 motor, 20 kHz, random duties around a
+ * rotating back-EMF-matched voltage, 1 s (CPU time). Deviation: test_plant_electrical. Usage:
+ * plant_bench [rpm] [band_A] [t_dead_s]
  */
 #include "mc_test.h" /* the shared constants (cmocka itself is not used) */
 
@@ -55,7 +55,8 @@ int main(int argc, char **argv)
     const int n = 20000; /* 1 s */
     const double w_ref = run(&c, PLANT_DEFAULT_SUBSTEPS, rpm, n);
     const double w_fast = run(&c, PLANT_SUBSTEPS_FAST, rpm, n);
-    printf("rpm %.0f: 1 us RK4 %.2f sim-s/wall-s, fast (%u substeps) %.2f sim-s/wall-s\n", rpm,
+    printf("rpm %.0f (%s): 1 us %.2f sim-s/wall-s, fast (%u substeps) %.2f sim-s/wall-s\n", rpm,
+           c.solver_method == PLANT_SOLVER_EXACT ? "exact where linear, else RK4" : "RK4",
            1.0 / w_ref, PLANT_SUBSTEPS_FAST, 1.0 / w_fast);
     return 0;
 }
