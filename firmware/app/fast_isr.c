@@ -212,6 +212,7 @@ void mc_app_fast_isr(mc_app_t *app)
     }
     mc_frame_t fr; /* every field set before use (no zeroing cost) */
     fr.in.encoder_count = hal_encoder_count();
+    t.encoder_count = fr.in.encoder_count;
     fr.in.v_applied = &app->v_applied;
     fr.in.running = (app->state == MC_STATE_RUN);
     fr.in.theta_e_hold_rad = mc_align_theta_e_f32(&app->align);

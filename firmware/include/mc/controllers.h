@@ -12,12 +12,14 @@
 #ifndef MC_CONTROLLERS_H
 #define MC_CONTROLLERS_H
 
+#include "mc/ctl_eeo.h"
 #include "mc/ctl_foc_pi.h"
 #include "mc/ctl_idapbc.h"
 
 #define MC_CONTROLLERS(X)                                                      \
     X(foc_pi, FOC_PI)                                                          \
-    X(idapbc, IDAPBC)
+    X(idapbc, IDAPBC)                                                          \
+    X(eeo, EEO)
 
 typedef enum {
 #define MC_X_ENUM(name, NAME) MC_CONTROLLER_##NAME,

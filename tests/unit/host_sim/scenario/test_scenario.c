@@ -542,7 +542,7 @@ static void format_1_is_refused(void **state)
 
 /* Controller and estimator of a minimal document: each pair validates a
  * different set of blocks. */
-typedef enum { CTX_ENCODER = 0, CTX_FLUX_PLL, CTX_FLUX_II, CTX_COUNT } context_t;
+typedef enum { CTX_ENCODER = 0, CTX_FLUX_PLL, CTX_FLUX_II, CTX_EEO, CTX_COUNT } context_t;
 
 static const struct {
     const char *controller;
@@ -551,6 +551,7 @@ static const struct {
     [CTX_ENCODER] = { "foc_pi", "encoder" },   /* foc_pi, encoder, timing, ... */
     [CTX_FLUX_PLL] = { "foc_pi", "flux_pll" }, /* + align, flux_obs, flux_pll */
     [CTX_FLUX_II] = { "idapbc", "flux_ii" },   /* + idapbc, flux_ii */
+    [CTX_EEO] = { "eeo", "encoder" },          /* + eeo */
 };
 
 /* A minimal valid document (the paper 001 motor, default plant) with this
@@ -630,6 +631,17 @@ static const field_case_t field_cases[] = {
     { "idapbc.integral_pole_rad_s", CTX_FLUX_II, 15.0 },
     { "idapbc.integral_tau_max_Nm", CTX_FLUX_II, 2.0 },
     { "idapbc.paper_rotation", CTX_FLUX_II, 1.0 },
+    { "eeo.kappa", CTX_EEO, 500.0 },
+    { "eeo.b_bar_Nm_per_Vs", CTX_EEO, 15.0 },
+    { "eeo.k1", CTX_EEO, -2.0 },
+    { "eeo.k2", CTX_EEO, -4.0 },
+    { "eeo.k3", CTX_EEO, -4.0 },
+    { "eeo.N_V", CTX_EEO, 1e6 },
+    { "eeo.g3_bound_per_kgm2", CTX_EEO, 40.0 },
+    { "eeo.g3_amplitude_per_kgm2", CTX_EEO, 20.0 },
+    { "eeo.g3_omega_rad_s", CTX_EEO, 2.0 },
+    { "eeo.g3_phase_rad", CTX_EEO, 0.5 },
+    { "eeo.matched_start", CTX_EEO, 0.0 },
     { "encoder.offset_e_rad", CTX_ENCODER, 0.5 },
     { "encoder.pll_bandwidth_rad_s", CTX_ENCODER, 800.0 },
     { "flux_ii.a1", CTX_FLUX_II, 25.0 },
@@ -843,7 +855,8 @@ static void plant_values_are_not_firmware_keys(void **state)
 static void controller_and_estimator_names(void **state)
 {
     (void)state;
-    assert_int_equal(MC_CONTROLLER_COUNT, 2);
+    assert_int_equal(MC_CONTROLLER_COUNT, 3);
+    assert_string_equal(mc_controller_name(MC_CONTROLLER_EEO), "eeo");
     assert_string_equal(mc_controller_name(MC_CONTROLLER_FOC_PI), "foc_pi");
     assert_string_equal(mc_controller_name(MC_CONTROLLER_IDAPBC), "idapbc");
     assert_int_equal(MC_ESTIMATOR_COUNT, 3);
@@ -852,14 +865,17 @@ static void controller_and_estimator_names(void **state)
     assert_string_equal(mc_estimator_name(MC_ESTIMATOR_FLUX_PLL), "flux_pll");
     char assignment[2][64];
     const char *overrides[] = { assignment[0], assignment[1] };
-    /* every controller (with flux_ii, which every controller accepts) */
+    /* every controller (with flux_ii, which every controller but the
+     * encoder-only eeo accepts; eeo with the encoder) */
     for (int i = 0; i < (int)MC_CONTROLLER_COUNT; i++) {
         snprintf(assignment[0], sizeof assignment[0], "firmware.controller=%s",
                  mc_controller_name((mc_controller_t)i));
-        snprintf(assignment[1], sizeof assignment[1], "firmware.estimator=flux_ii");
+        const bool eeo = (i == (int)MC_CONTROLLER_EEO);
+        snprintf(assignment[1], sizeof assignment[1], "firmware.estimator=%s",
+                 eeo ? "encoder" : "flux_ii");
         load_ok(valid_doc, overrides, 2);
         assert_int_equal(scn.firmware.controller, i);
-        assert_int_equal(scn.firmware.estimator, MC_ESTIMATOR_FLUX_II);
+        assert_int_equal(scn.firmware.estimator, eeo ? MC_ESTIMATOR_ENCODER : MC_ESTIMATOR_FLUX_II);
     }
     /* every estimator (with foc_pi, which works with any) */
     for (int i = 0; i < (int)MC_ESTIMATOR_COUNT; i++) {
@@ -877,7 +893,7 @@ static void controller_and_estimator_names(void **state)
         assert_false(load(valid_doc, overrides, 1));
         assert_int_equal(err.code, SCN_ERR_RANGE);
         assert_string_equal(err.path, "firmware.controller");
-        assert_string_equal(err.expected, "one of \"foc_pi\", \"idapbc\"");
+        assert_string_equal(err.expected, "one of \"foc_pi\", \"idapbc\", \"eeo\"");
     }
     /* format 1's angle_source names are not estimators */
     const char *bad_estimators[] = { "flux_observer", "hall", "Encoder", "flux" };

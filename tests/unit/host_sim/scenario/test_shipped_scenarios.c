@@ -256,6 +256,66 @@ static void paper000_position(void **state)
     assert_int_equal(c->motor.pole_pairs, 8);
 }
 
+/* Paper 000 issue 10 bench: the regulator (controller eeo) and the
+ * baseline FOC in the four load cases, theta* = 1 rad from t = 0 (profile
+ * time), 20 s, g3 = 1/j + 1e4 sin(t) on the plant; the loads the issue
+ * assumes; the 16-bit encoder variants. */
+static void check_paper000_case(int c_case)
+{
+    check_motor(7.2, 20e-3, 20e-3, 0.06 * sqrt(2.0 / 3.0), 8, 0.55367e-4);
+    near(scn.plant.motor.g3_amplitude_per_kgm2, 1e4);
+    near(scn.time_offset_s, 0.0256);
+    near(scn.duration_s, 20.0256);
+    assert_int_equal(scn.plant.substeps_per_period, 4);
+    assert_int_equal(scn.reference.mode, MC_MODE_POSITION);
+    near(sim_profile_eval(&scn.reference.value, 0.0), 1.0);
+    near(sim_profile_eval(&scn.reference.value, 20.0), 1.0);
+    const sim_profile_t *tl = &scn.plant.load_torque_Nm;
+    const double tb = 1.3; /* profile time */
+    double expect = 0.0;
+    if (c_case >= 2) {
+        expect = 0.2;
+    }
+    if (c_case >= 3) {
+        expect += 0.1 * sin(tb + 0.7853981633974483); /* pi/4 */
+    }
+    if (c_case == 4) {
+        near(tl->noise.rms, 0.1);
+        near(tl->noise.cutoff_Hz, 5.0);
+    } else {
+        near(tl->noise.rms, 0.0);
+        near(sim_profile_eval(tl, tb + 0.0256), expect);
+    }
+}
+
+static void paper000_eeo_bench(void **state)
+{
+    (void)state;
+    char f[64];
+    for (int c = 1; c <= 4; ++c) {
+        (void)snprintf(f, sizeof f, "paper000_eeo_case%d.json", c);
+        load(f);
+        check_paper000_case(c);
+        assert_int_equal(scn.firmware.controller, MC_CONTROLLER_EEO);
+        assert_int_equal(scn.firmware.estimator, MC_ESTIMATOR_ENCODER);
+        assert_int_equal(scn.firmware.encoder.counts_per_rev, 1u << 23);
+        near(scn.firmware.eeo.g3_amplitude_per_kgm2, 1e4);
+        near(scn.firmware.eeo.kappa, 1e3);
+        near(scn.firmware.eeo.b_bar_Nm_per_Vs, 20.0);
+        (void)snprintf(f, sizeof f, "paper000_position_foc_case%d.json", c);
+        load(f);
+        check_paper000_case(c);
+        assert_int_equal(scn.firmware.controller, MC_CONTROLLER_FOC_PI);
+        if (c <= 3) {
+            (void)snprintf(f, sizeof f, "paper000_eeo_case%d_enc16.json", c);
+            load(f);
+            check_paper000_case(c);
+            assert_int_equal(scn.firmware.controller, MC_CONTROLLER_EEO);
+            assert_int_equal(scn.firmware.encoder.counts_per_rev, 65536u);
+        }
+    }
+}
+
 /* The ```json block after "## A full example" in README.md, NUL-terminated
  * in place inside text. */
 static char *readme_example(char *text)
@@ -339,7 +399,7 @@ int main(void)
         cmocka_unit_test(paper001_sensorless_nam), cmocka_unit_test(paper001_robustness_idapbc),
         cmocka_unit_test(paper001_robustness_nam), cmocka_unit_test(paper002_case1),
         cmocka_unit_test(paper000_position),       cmocka_unit_test(readme_full_example_is_valid),
-        cmocka_unit_test(paper001_realistic),
+        cmocka_unit_test(paper001_realistic),      cmocka_unit_test(paper000_eeo_bench),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
