@@ -7,7 +7,7 @@
  * 20 s at 20 kHz (50 us), float32 firmware, the fast plant setting
  * (4 substeps a period; checked against the default 50 below).
  *
- * Acceptance (issue 10):
+ * Acceptance:
  *   cases 1-3, ideal angle (2^23 counts per turn): |theta - theta*| below
  *   1e-3 rad within 3.0 s and staying there; max error over the last
  *   second <= 1e-6 rad; peak |v_q| <= 12 V (the paper's two-phase units,

@@ -30,7 +30,7 @@
  * The error polynomial is s^4 + l1 s^3 + g2 l2 s^2 + g2 g3 l3 s
  * + g2 g3 l4. Paper gains (kappa = 1e3, a = (33.61, 33.61, 135483,
  * 48604)): l1 = 4.86e7 1/s, the fastest eigenvalue is about -4.86e7 rad/s.
- * Forward Euler needs Ts < 2 / 4.86e7 = 41 ns; (reported in issue 10, not
+ * Forward Euler needs Ts < 2 / 4.86e7 = 41 ns; (reported elsewhere, not
  * re-tested here) exact discretisation with y
  * held over the step is unstable from about 2 us. Hence:
  *

@@ -53,7 +53,7 @@ static void test_recursion_matches_section6(void **state)
     for (int i = 0; i < 4; ++i) {
         assert_near(a[i] / ref[i], 1.0, 1e-9);
     }
-    /* g3min = 8061.3, g3max = 28061.3 as the issue states */
+    /* g3min = 8061.3, g3max = 28061.3 with j in kg m^2 */
     assert_near(G3_MIN, 8061.3, 0.05);
     assert_near(G3_MAX, 28061.3, 0.05);
     /* printed values to one unit of their last printed digit (a2 comes

@@ -4,6 +4,7 @@
 #include "mc_test.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -256,10 +257,10 @@ static void paper000_position(void **state)
     assert_int_equal(c->motor.pole_pairs, 8);
 }
 
-/* Paper 000 issue 10 bench: the regulator (controller eeo) and the
+/* Paper 000 bench: the regulator (controller eeo) and the
  * baseline FOC in the four load cases, theta* = 1 rad from t = 0 (profile
- * time), 20 s, g3 = 1/j + 1e4 sin(t) on the plant; the loads the issue
- * assumes; the 16-bit encoder variants. */
+ * time), 20 s, g3 = 1/j + 1e4 sin(t) on the plant; the assumed loads
+ * (the paper gives none); the 16-bit encoder variants. */
 static void check_paper000_case(int c_case)
 {
     check_motor(7.2, 20e-3, 20e-3, 0.06 * sqrt(2.0 / 3.0), 8, 0.55367e-4);
@@ -334,11 +335,15 @@ static char *readme_example(char *text)
 static void readme_full_example_is_valid(void **state)
 {
     (void)state;
-    static char text[32768];
+    static char text[262144];
     FILE *f = fopen(SCENARIOS_DIR "/README.md", "rb");
     assert_non_null(f);
     size_t n = fread(text, 1, sizeof(text) - 1, f);
+    const bool whole = feof(f) != 0;
     fclose(f);
+    if (!whole) {
+        fail_msg("README.md is longer than the %zu bytes read: enlarge text[]", n);
+    }
     text[n] = '\0';
     scn_error_t err;
     if (!scenario_load_text(readme_example(text), "README.md", NULL, 0, &scn, &err)) {
