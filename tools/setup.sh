@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs everything the project needs on a Debian 12 machine:
-#  - Debian packages (compilers, cmocka, cJSON, QEMU, ...)
+#  - Debian packages (compilers, cmocka, cJSON, QEMU, GNU parallel, ...)
 #  - a Python virtual environment in .venv/ with the PyPI packages of tools/
 # Idempotent: prints nothing and changes nothing when all is present.
 set -euo pipefail
@@ -13,6 +13,7 @@ debian_packages=(
   libcmocka-dev libcjson-dev
   qemu-system-arm
   python3-venv
+  parallel
 )
 
 missing=()
