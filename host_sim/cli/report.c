@@ -86,6 +86,13 @@ void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
         d->status = sim_metrics_max_dip(&y, ser->ref, m->load_step_t_s[i], m->dip_window_s,
                                         &d->max_dip, &d->dip_time_s);
         d->dip_time_s -= s->time_offset_s;
+        d->has_recovery = m->recovery_band > 0.0;
+        d->recovery_time_s = NAN;
+        if (d->has_recovery) {
+            d->recovery_status =
+                sim_metrics_recovery_time(&y, ser->ref, m->load_step_t_s[i], m->dip_window_s,
+                                          m->recovery_band, &d->recovery_time_s, NULL);
+        }
     }
     report_compute_windows(s, ser, rep);
 }

@@ -9,7 +9,8 @@
  *                               fluctuation_rate_percent (paper 002, Sec. IV-A)
  *   always                      rms_tracking_error_<u> (metrics.tracking_window_s,
  *                               default the whole run)
- *   metrics.load_steps_s        one max_dip_<u> per load step
+ *   metrics.load_steps_s        one max_dip_<u> per load step, and with
+ *                               metrics.recovery_band its recovery_time_s
  *   metrics.windows             per named window: rms_error_<u>,
  *                               max_abs_error_<u>, max_abs_<mode>_<u> (|y|:
  *                               the zero-speed report), rms_angle_error_e_rad,
@@ -65,6 +66,9 @@ typedef struct {
     double max_dip; /* display unit */
     double dip_time_s;
     sim_metrics_status_t status;
+    bool has_recovery; /* metrics.recovery_band > 0 */
+    double recovery_time_s;
+    sim_metrics_status_t recovery_status;
 } report_dip_t;
 
 #define REPORT_WINDOW_ITEMS 8

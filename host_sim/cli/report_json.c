@@ -131,6 +131,15 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
             cJSON_AddNullToObject(d, dip_key);
             cJSON_AddStringToObject(d, "unavailable", sim_metrics_status_str(dip->status));
         }
+        if (dip->has_recovery) {
+            if (dip->recovery_status == SIM_METRICS_OK) {
+                cJSON_AddNumberToObject(d, "recovery_time_s", dip->recovery_time_s);
+            } else {
+                cJSON_AddNullToObject(d, "recovery_time_s");
+                cJSON_AddStringToObject(d, "recovery_unavailable",
+                                        sim_metrics_status_str(dip->recovery_status));
+            }
+        }
         cJSON_AddItemToArray(dips, d);
     }
 

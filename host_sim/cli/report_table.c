@@ -83,6 +83,11 @@ void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res, c
         char label[64];
         snprintf(label, sizeof(label), "max dip after load step %.3g s", rep->dips[i].t_s);
         print_value(f, label, rep->dips[i].max_dip, rep->dips[i].status, s->reference.display_unit);
+        if (rep->dips[i].has_recovery) {
+            snprintf(label, sizeof(label), "recovery time (+-%g %s)", s->metrics.recovery_band,
+                     s->reference.display_unit);
+            print_value(f, label, rep->dips[i].recovery_time_s, rep->dips[i].recovery_status, "s");
+        }
     }
     for (size_t i = 0; i < rep->n_windows; i++) {
         const report_window_t *w = &rep->windows[i];

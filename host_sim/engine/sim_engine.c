@@ -72,8 +72,9 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
     e->half_period_update = half;
     e->pole_pairs = plant_cfg->motor.pole_pairs;
     e->dc_link_capacitive = plant_cfg->dc_link.capacitance_F > 0.0;
-    e->plant_normal =
-        (sim_plant_faults_t){ .rotor_locked = plant_cfg->locked_rotor, .source_connected = true };
+    e->plant_normal = (sim_plant_faults_t){ .rotor_locked = plant_cfg->locked_rotor,
+                                            .source_connected = true,
+                                            .t_dead_s = plant_cfg->inverter.t_dead_s };
     e->plant_faults = e->plant_normal;
     hal_sim_mailbox_reset(&e->mailbox);
     e->mailbox.encoder_cpr = cpr;
@@ -103,7 +104,7 @@ static bool uses_phase(sim_inject_kind_t kind)
 {
     return kind == SIM_INJECT_CURRENT_NAN || kind == SIM_INJECT_CURRENT_OFFSET ||
            kind == SIM_INJECT_CURRENT_OFFSET_RAMP || kind == SIM_INJECT_CURRENT_STUCK ||
-           kind == SIM_INJECT_PHASE_OPEN;
+           kind == SIM_INJECT_CURRENT_GAIN || kind == SIM_INJECT_PHASE_OPEN;
 }
 
 static bool is_encoder_kind(sim_inject_kind_t kind)
@@ -132,6 +133,14 @@ static const char *kind_field_problem(const sim_injection_t *inj)
         return (inj->lost_fraction > 0.0 && inj->lost_fraction < 1.0)
                    ? NULL
                    : "encoder_count_loss lost_fraction must be in (0, 1)";
+    case SIM_INJECT_CURRENT_GAIN:
+        return isfinite(inj->value) && inj->value > 0.0
+                   ? NULL
+                   : "current_gain gain must be finite and > 0";
+    case SIM_INJECT_DEAD_TIME:
+        return isfinite(inj->value) && inj->value >= 0.0
+                   ? NULL
+                   : "dead_time dead_time_s must be finite and >= 0";
     case SIM_INJECT_CURRENT_OFFSET_RAMP:
         return isfinite(inj->rate_A_s) ? NULL : "current_offset_ramp rate_A_s must be finite";
     }
@@ -175,6 +184,10 @@ int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj)
         return fail(e, SIM_ENGINE_ERR_INJECTION,
                     "encoder injections need a plant encoder (sensors.encoder.lines > 0)");
     }
+    if (inj->kind == SIM_INJECT_DEAD_TIME && !(inj->value < 0.5 * plant_period_s(&e->plant))) {
+        return fail(e, SIM_ENGINE_ERR_INJECTION,
+                    "dead_time dead_time_s must be below half a PWM period");
+    }
     if (inj->kind == SIM_INJECT_BUS_SOURCE_LOSS && !e->dc_link_capacitive) {
         return fail(e, SIM_ENGINE_ERR_INJECTION,
                     "bus_source_loss needs a DC link capacitance (dc_link.capacitance_F > 0)");
@@ -209,6 +222,7 @@ static bool set_plant_faults(sim_engine_t *e, double t_s)
         case SIM_INJECT_PHASE_OPEN: want.phase_open[inj->phase] = true; break;
         case SIM_INJECT_ROTOR_LOCK: want.rotor_locked = true; break;
         case SIM_INJECT_BUS_SOURCE_LOSS: want.source_connected = false; break;
+        case SIM_INJECT_DEAD_TIME: want.t_dead_s = inj->value; break;
         default: break; /* measurement side: apply_injections */
         }
     }
@@ -232,6 +246,12 @@ static bool set_plant_faults(sim_engine_t *e, double t_s)
             return false;
         }
         now->source_connected = want.source_connected;
+    }
+    if (want.t_dead_s != now->t_dead_s) {
+        if (plant_set_dead_time(&e->plant, want.t_dead_s) != PLANT_OK) {
+            return false;
+        }
+        now->t_dead_s = want.t_dead_s;
     }
     return true;
 }
@@ -293,9 +313,11 @@ static uint32_t apply_injections(sim_engine_t *e, plant_measurement_t *m, bool *
             m->i_abc_A[inj->phase] += inj->rate_A_s * (m->t_s - inj->t_start_s);
             break;
         case SIM_INJECT_CURRENT_STUCK: m->i_abc_A[inj->phase] = inj->value; break;
+        case SIM_INJECT_CURRENT_GAIN: m->i_abc_A[inj->phase] *= inj->value; break;
         case SIM_INJECT_PHASE_OPEN:
         case SIM_INJECT_ROTOR_LOCK:
-        case SIM_INJECT_BUS_SOURCE_LOSS: break; /* plant side: set_plant_faults */
+        case SIM_INJECT_BUS_SOURCE_LOSS:
+        case SIM_INJECT_DEAD_TIME: break; /* plant side: set_plant_faults */
         }
         st->started = true;
     }

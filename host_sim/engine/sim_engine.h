@@ -72,8 +72,9 @@ typedef enum {
  * the count only, in the counts the HAL reports (cpr = 4 x plant encoder
  * lines, 0..cpr-1); the index flag stays the plant's (the firmware does
  * not use the index).
- * Plant-side kinds (PHASE_OPEN, ROTOR_LOCK, BUS_SOURCE_LOSS) change the
- * plant through plant_set_phase_open / _rotor_locked / _source_connected
+ * Plant-side kinds (PHASE_OPEN, ROTOR_LOCK, BUS_SOURCE_LOSS, DEAD_TIME)
+ * change the plant through plant_set_phase_open / _rotor_locked /
+ * _source_connected / _dead_time
  * for the periods [t_k, t_k + Ts) whose sample t_k is in their window (the
  * true state shows the change from the next sample on). Outside every
  * window the plant is in its normal state: phases connected, the rotor
@@ -111,8 +112,16 @@ typedef enum {
                                        (A): a stuck sensor or ADC channel */
     SIM_INJECT_PHASE_OPEN,          /* phase terminal `phase` disconnected */
     SIM_INJECT_ROTOR_LOCK,          /* a shaft brake holds the rotor */
-    SIM_INJECT_BUS_SOURCE_LOSS      /* the DC source is disconnected from the
+    SIM_INJECT_BUS_SOURCE_LOSS,     /* the DC source is disconnected from the
                                        link (needs a link capacitance) */
+    SIM_INJECT_CURRENT_GAIN,        /* measured current of `phase` *= value
+                                       (a gain error; value finite, > 0) */
+    SIM_INJECT_DEAD_TIME            /* plant side: the inverter's dead time
+                                       is dead_time_s (plant_set_dead_time;
+                                       the last active one in the table
+                                       wins); outside every window the
+                                       plant config's. The firmware keeps
+                                       the dead time it was configured with */
 } sim_inject_kind_t;
 
 typedef struct {
@@ -121,9 +130,10 @@ typedef struct {
     double t_end_s;       /* may be INFINITY */
     uint32_t phase;       /* 0, 1, 2 (a, b, c): CURRENT_NAN, CURRENT_OFFSET,
                              CURRENT_OFFSET_RAMP, CURRENT_STUCK,
-                             PHASE_OPEN */
+                             CURRENT_GAIN, PHASE_OPEN */
     double value;         /* A or V: CURRENT_OFFSET, VDC_MEASURED,
-                             CURRENT_STUCK */
+                             CURRENT_STUCK; the factor of CURRENT_GAIN;
+                             s: DEAD_TIME */
     double angle_e_rad;   /* ENCODER_SLIP: electrical rad */
     double lost_fraction; /* ENCODER_COUNT_LOSS: in (0, 1) */
     double rate_A_s;      /* CURRENT_OFFSET_RAMP: A/s */
@@ -145,6 +155,7 @@ typedef struct {
     bool phase_open[3];
     bool rotor_locked;
     bool source_connected;
+    double t_dead_s;
 } sim_plant_faults_t;
 
 /* Everything about PWM period k. */

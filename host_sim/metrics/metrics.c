@@ -279,6 +279,59 @@ sim_metrics_status_t sim_metrics_max_dip(const sim_signal_t *sig, const double *
     return SIM_METRICS_OK;
 }
 
+sim_metrics_status_t sim_metrics_recovery_time(const sim_signal_t *sig, const double *ref,
+                                               double t_step_s, double window_s, double band,
+                                               double *recovery_time_s, double *settled)
+{
+    size_t first;
+    size_t last;
+    if (ref == NULL || recovery_time_s == NULL || !isfinite(t_step_s) || !(window_s > 0.0) ||
+        !isfinite(window_s) || !(band > 0.0) || !isfinite(band)) {
+        return SIM_METRICS_ERR_ARGUMENT;
+    }
+    const double t_end = t_step_s + window_s;
+    sim_metrics_status_t st = window(sig, ref, t_step_s, t_end, &first, &last);
+    if (st != SIM_METRICS_OK) {
+        return st;
+    }
+    /* The settled error: mean over the last quarter of the window. */
+    size_t q_first;
+    size_t q_last;
+    st = window(sig, ref, t_end - SIM_METRICS_RECOVERY_SETTLED_FRACTION * window_s, t_end, &q_first,
+                &q_last);
+    if (st != SIM_METRICS_OK) {
+        return st;
+    }
+    double sum = 0.0;
+    for (size_t k = q_first; k <= q_last; k++) {
+        sum += sig->y[k] - ref[k];
+    }
+    const double e_inf = sum / (double)(q_last - q_first + 1u);
+    /* The last sample outside the band. */
+    size_t k_out = last + 1u;
+    for (size_t k = last + 1u; k-- > first;) {
+        if (fabs(sig->y[k] - ref[k] - e_inf) > band) {
+            k_out = k;
+            break;
+        }
+    }
+    if (k_out == last) {
+        return SIM_METRICS_ERR_NOT_REACHED;
+    }
+    double t_in = t_step_s; /* never outside: recovered at once */
+    if (k_out <= last) {
+        const double d0 = sig->y[k_out] - ref[k_out] - e_inf;
+        const double d1 = sig->y[k_out + 1u] - ref[k_out + 1u] - e_inf;
+        const double edge = d0 > 0.0 ? band : -band; /* the side it was outside on */
+        t_in = sig->t[k_out] + (sig->t[k_out + 1u] - sig->t[k_out]) * (d0 - edge) / (d0 - d1);
+    }
+    *recovery_time_s = t_in - t_step_s;
+    if (settled != NULL) {
+        *settled = e_inf;
+    }
+    return SIM_METRICS_OK;
+}
+
 sim_metrics_status_t sim_metrics_peak_abs(const sim_signal_t *sig, double t0_s, double t1_s,
                                           double *peak_abs)
 {

@@ -96,8 +96,8 @@
  * i_clamp returns to zero (events as above).
  *
  * ---- Runtime faults ---------------------------------------------------------
- * plant_set_phase_open, plant_set_rotor_locked, plant_set_source_connected
- * (below) take effect at the start of the next advance. Instantaneous
+ * plant_set_phase_open, plant_set_rotor_locked, plant_set_source_connected,
+ * plant_set_dead_time (below) take effect at the start of the next advance. Instantaneous
  * changes they imply (the current of a phase that opens, the kinetic energy
  * of a rotor that locks) and the residuals of the zero-current clamps leave
  * the state without passing through the integrated power flows: their
@@ -363,6 +363,7 @@ typedef struct {
     bool phase_open[3];
     bool rotor_locked;
     bool source_connected;
+    double t_dead_s; /* inverter dead time in effect (plant_set_dead_time) */
 } plant_faults_t;
 
 /* Private: constants of the exact integrator for the substep h_s (see
@@ -484,6 +485,12 @@ int plant_set_rotor_locked(plant_t *p, bool locked);
 /* The bus source connected to the link or lost (no source current). Needs
  * dc_link.capacitance_F > 0: on a stiff bus it is refused (PLANT_ERR_DC_LINK). */
 int plant_set_source_connected(plant_t *p, bool connected);
+
+/* The inverter's dead time from the next advance on (config: the initial
+ * value inverter.t_dead_s): a board whose dead time changes, e.g. paper
+ * 002's Case II (3 -> 7 us). Same rule as the config: finite, >= 0 and
+ * below half a PWM period (else PLANT_ERR_ARGUMENT). */
+int plant_set_dead_time(plant_t *p, double t_dead_s);
 
 /* True state after the last advance (valid until the next advance). */
 const plant_true_state_t *plant_true_state(const plant_t *p);

@@ -501,7 +501,9 @@ int plant_init(plant_t *p, const plant_config_t *cfg)
     plant_exact_init(p);
     p->x[PX_THETA] = cfg->theta_m0_rad;
     p->x[PX_OMEGA] = cfg->locked_rotor ? 0.0 : cfg->omega_m0_rad_s;
-    p->faults = (plant_faults_t){ .rotor_locked = cfg->locked_rotor, .source_connected = true };
+    p->faults = (plant_faults_t){ .rotor_locked = cfg->locked_rotor,
+                                  .source_connected = true,
+                                  .t_dead_s = cfg->inverter.t_dead_s };
     p->requested = p->faults;
     p->link_dynamic = cfg->dc_link.capacitance_F > 0.0;
 
@@ -583,6 +585,22 @@ int plant_set_source_connected(plant_t *p, bool connected)
                       "is its source)");
     }
     p->requested.source_connected = connected;
+    return PLANT_OK;
+}
+
+int plant_set_dead_time(plant_t *p, double t_dead_s)
+{
+    if (p == NULL) {
+        return PLANT_ERR_NULL;
+    }
+    if (!p->initialised) {
+        return PLANT_ERR_STATE;
+    }
+    if (!(t_dead_s >= 0.0) || !(t_dead_s * p->cfg.inverter.f_pwm_Hz < 0.5)) {
+        return refuse(p, PLANT_ERR_ARGUMENT,
+                      "plant_set_dead_time: dead time must be >= 0 and below half a PWM period");
+    }
+    p->requested.t_dead_s = t_dead_s;
     return PLANT_OK;
 }
 
@@ -677,7 +695,7 @@ static plant_source_t inverter_source(plant_t *p, const double duty_abc[3], bool
             src.duty[k] = clamp01(duty_abc[k]);
         }
         const plant_inverter_params_t *inv = &p->cfg.inverter;
-        src.v_error_V = inv->t_dead_s * inv->f_pwm_Hz * src.v_dc_V + inv->v_device_drop_V;
+        src.v_error_V = p->faults.t_dead_s * inv->f_pwm_Hz * src.v_dc_V + inv->v_device_drop_V;
         src.i_band_A = inv->dead_time_current_band_A;
         enter_driven(p);
     } else {

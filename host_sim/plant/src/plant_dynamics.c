@@ -59,7 +59,7 @@ static void source_voltages(const plant_source_t *src, double v_dc_V, double v_e
 static double dead_time_error_V(const plant_t *p, const plant_source_t *src, double v_dc_V)
 {
     const plant_inverter_params_t *inv = &p->cfg.inverter;
-    return p->link_dynamic ? inv->t_dead_s * inv->f_pwm_Hz * v_dc_V + inv->v_device_drop_V
+    return p->link_dynamic ? p->faults.t_dead_s * inv->f_pwm_Hz * v_dc_V + inv->v_device_drop_V
                            : src->v_error_V;
 }
 

@@ -13,6 +13,8 @@
  *   {"kind": "phase_open",          "phase": "a", "t_start_s": ..}
  *   {"kind": "rotor_lock",          "t_start_s": ..}
  *   {"kind": "bus_source_loss",     "t_start_s": ..}
+ *   {"kind": "current_gain",        "phase": "a", "gain": .., "t_start_s": ..}
+ *   {"kind": "dead_time",           "dead_time_s": .., "t_start_s": ..}
  * (the meaning of each kind: sim_inject_kind_t in sim_engine.h).
  * t_end_s is optional (default: until the end of the run); an injection that
  * starts after the end of the run never becomes active. */
@@ -23,9 +25,9 @@
 
 /* Names in the order of sim_inject_kind_t. */
 static const char *const kind_names[] = {
-    "current_nan",   "current_offset", "vdc_measured",       "fault_input",
-    "encoder_slip",  "encoder_frozen", "encoder_count_loss", "current_offset_ramp",
-    "current_stuck", "phase_open",     "rotor_lock",         "bus_source_loss"
+    "current_nan",    "current_offset",     "vdc_measured",        "fault_input",   "encoder_slip",
+    "encoder_frozen", "encoder_count_loss", "current_offset_ramp", "current_stuck", "phase_open",
+    "rotor_lock",     "bus_source_loss",    "current_gain",        "dead_time"
 };
 static const char *const phase_names[] = { "a", "b", "c" };
 
@@ -64,6 +66,10 @@ static bool read_kind_keys(jr_object_t *o, sim_injection_t *inj)
         return read_phase(o, inj) && jr_number(o, "rate_A_s", JR_CLOSED(-1e6, 1e6), &inj->rate_A_s);
     case SIM_INJECT_CURRENT_STUCK:
         return read_phase(o, inj) && jr_number(o, "value_A", VALUE_RANGE, &inj->value);
+    case SIM_INJECT_CURRENT_GAIN: /* the range of sensors.current.gain */
+        return read_phase(o, inj) && jr_number(o, "gain", JR_POSITIVE(10.0), &inj->value);
+    case SIM_INJECT_DEAD_TIME: /* the range of inverter.dead_time_s */
+        return jr_number(o, "dead_time_s", JR_CLOSED(0.0, 1e-4), &inj->value);
     }
     return false;
 }

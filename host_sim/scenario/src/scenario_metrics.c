@@ -148,5 +148,6 @@ bool scenario_read_metrics(jr_object_t *root, double duration_s, scenario_metric
     }
     m->n_load_steps = steps.size;
     return jr_number_opt(&o, "dip_window_s", JR_POSITIVE(1e3), 0.5, &m->dip_window_s) &&
+           jr_number_opt(&o, "recovery_band", JR_CLOSED(0.0, 1e9), 0.0, &m->recovery_band) &&
            read_named_windows(&o, m) && jr_finish(&o);
 }

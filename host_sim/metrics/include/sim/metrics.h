@@ -28,6 +28,14 @@
  *  - tracking: RMS of (y - ref) over a window (uniform sample mean).
  *  - load step (paper 001 Section 5 dips, paper 002 Table II "Decrease"):
  *      dip  max |y - ref| in [t_step_s, t_step_s + window_s], with its time.
+ *  - recovery after a load step (paper 002 Table II "Recovery time"; the
+ *    paper does not define it, this is the bench's reading): the time from
+ *    t_step_s until |(y - ref) - e_inf| <= band holds for the rest of
+ *    [t_step_s, t_step_s + window_s], with e_inf the mean of y - ref over
+ *    the last quarter of that window (the error the response settles to:
+ *    a controller left with an offset, like the paper's HDOBC, still has a
+ *    recovery time). The crossing back into the band is interpolated; a
+ *    response never outside the band recovers at once (0).
  *  - peak: max |y| over a window (currents, voltages).
  */
 #ifndef SIM_METRICS_H
@@ -92,6 +100,14 @@ sim_metrics_status_t sim_metrics_rms_error(const sim_signal_t *sig, const double
 sim_metrics_status_t sim_metrics_max_dip(const sim_signal_t *sig, const double *ref,
                                          double t_step_s, double window_s, double *max_dip,
                                          double *dip_time_s);
+
+/* Recovery time after a load step (see above); band > 0 in y's unit. *settled
+ * (may be NULL) receives e_inf. SIM_METRICS_ERR_NOT_REACHED when the last
+ * sample of the window is outside the band. */
+#define SIM_METRICS_RECOVERY_SETTLED_FRACTION 0.25
+sim_metrics_status_t sim_metrics_recovery_time(const sim_signal_t *sig, const double *ref,
+                                               double t_step_s, double window_s, double band,
+                                               double *recovery_time_s, double *settled);
 
 /* Largest |y| over [t0_s, t1_s]. */
 sim_metrics_status_t sim_metrics_peak_abs(const sim_signal_t *sig, double t0_s, double t1_s,

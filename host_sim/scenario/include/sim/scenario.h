@@ -71,6 +71,7 @@ typedef struct {
     size_t n_load_steps;
     double load_step_t_s[SCENARIO_MAX_LOAD_STEPS];
     double dip_window_s;
+    double recovery_band; /* display unit; 0: no recovery time */
     size_t n_windows;
     scenario_window_t windows[SCENARIO_MAX_WINDOWS];
 } scenario_metrics_t;

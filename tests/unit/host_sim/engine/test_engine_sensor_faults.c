@@ -362,6 +362,57 @@ static void current_stuck_reports_its_value(void **state)
     }
 }
 
+/* current_gain then current_offset on one phase (paper 002 Case II's
+ * phase a: gain 1.05, offset -0.5 A; here on phase b, which carries the
+ * current at theta_e = 0): the measurement is 1.05 i - 0.5 in their window,
+ * in the order they were added; a gain on another phase (c: 0.96) scales
+ * that phase alone. */
+static void current_gain_scales_in_order(void **state)
+{
+    (void)state;
+    start_current_loop();
+    const sim_injection_t gain_b = { .kind = SIM_INJECT_CURRENT_GAIN,
+                                     .t_start_s = 0.10002,
+                                     .t_end_s = 0.11002,
+                                     .phase = 1u,
+                                     .value = 1.05 };
+    const sim_injection_t offset_b = { .kind = SIM_INJECT_CURRENT_OFFSET,
+                                       .t_start_s = 0.10002,
+                                       .t_end_s = 0.11002,
+                                       .phase = 1u,
+                                       .value = -0.5 };
+    const sim_injection_t gain_c = { .kind = SIM_INJECT_CURRENT_GAIN,
+                                     .t_start_s = 0.10502,
+                                     .t_end_s = INFINITY,
+                                     .phase = 2u,
+                                     .value = 0.96 };
+    assert_int_equal(sim_engine_add_injection(engine, &gain_b), SIM_ENGINE_OK);
+    assert_int_equal(sim_engine_add_injection(engine, &offset_b), SIM_ENGINE_OK);
+    assert_int_equal(sim_engine_add_injection(engine, &gain_c), SIM_ENGINE_OK);
+    int n_b = 0;
+    int n_c = 0;
+    for (int k = 0; k < 2400; ++k) { /* 0.12 s */
+        const sim_trace_sample_t *s = current_step();
+        const bool b_on = in_window(&gain_b, s->t_s);
+        const bool c_on = in_window(&gain_c, s->t_s);
+        const double i_b = s->plant.i_abc_A[1];
+        const double i_c = s->plant.i_abc_A[2];
+        assert_true(fabs(s->meas.i_abc_A[1] - (b_on ? 1.05 * i_b - 0.5 : i_b)) < 1e-12);
+        assert_true(fabs(s->meas.i_abc_A[2] - (c_on ? 0.96 * i_c : i_c)) < 1e-12);
+        assert_true(s->meas.i_abc_A[0] == s->plant.i_abc_A[0]);
+        if (b_on) {
+            assert_true(fabs(i_b) > 1.0); /* a real current is scaled */
+            n_b++;
+        }
+        if (c_on) {
+            assert_true(fabs(i_c) > 1.0);
+            n_c++;
+        }
+    }
+    assert_int_equal(n_b, 200); /* samples 2001 .. 2200 */
+    assert_int_equal(n_c, 299); /* samples 2101 .. 2399 */
+}
+
 /* ---- Validation ---------------------------------------------------------- */
 
 typedef struct {
@@ -390,6 +441,13 @@ static void invalid_fields_are_rejected_by_name(void **state)
         { { .kind = SIM_INJECT_CURRENT_STUCK, .t_end_s = 1.0, .value = -INFINITY }, "value" },
         { { .kind = SIM_INJECT_CURRENT_STUCK, .t_end_s = 1.0, .phase = 3u }, "phase" },
         { { .kind = SIM_INJECT_ENCODER_FROZEN, .t_start_s = 2.0, .t_end_s = 1.0 }, "start" },
+        { { .kind = SIM_INJECT_CURRENT_GAIN, .t_end_s = 1.0, .value = 0.0 }, "gain" },
+        { { .kind = SIM_INJECT_CURRENT_GAIN, .t_end_s = 1.0, .value = NAN }, "gain" },
+        { { .kind = SIM_INJECT_CURRENT_GAIN, .t_end_s = 1.0, .value = 1.0, .phase = 3u }, "phase" },
+        { { .kind = SIM_INJECT_DEAD_TIME, .t_end_s = 1.0, .value = -1e-6 }, "dead_time_s" },
+        { { .kind = SIM_INJECT_DEAD_TIME, .t_end_s = 1.0, .value = INFINITY }, "dead_time_s" },
+        /* half the default 50 us period */
+        { { .kind = SIM_INJECT_DEAD_TIME, .t_end_s = 1.0, .value = 25e-6 }, "dead_time_s" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         assert_int_equal(sim_engine_add_injection(engine, &bad[i].inj), SIM_ENGINE_ERR_INJECTION);
@@ -439,6 +497,7 @@ int main(void)
         cmocka_unit_test(encoder_count_loss_keeps_the_fraction),
         cmocka_unit_test(current_offset_ramp_grows_at_its_rate),
         cmocka_unit_test(current_stuck_reports_its_value),
+        cmocka_unit_test(current_gain_scales_in_order),
         cmocka_unit_test(invalid_fields_are_rejected_by_name),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

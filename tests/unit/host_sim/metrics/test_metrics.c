@@ -220,6 +220,64 @@ static void load_step_dip_found_at_its_peak(void **state)
     assert_true(fabs(t_dip - (t_step + tau)) < dt / 2.0);
 }
 
+/* Recovery after a load step: y = ref + e_inf - D exp(-x / tau), x = t -
+ * t_step, settles to the offset e_inf (a controller that keeps an offset,
+ * like paper 002's HDOBC). |y - ref - e_inf| = D exp(-x / tau) enters the
+ * band b at x = tau ln(D / b) and stays: with D = 60, b = 10, tau = 5 ms,
+ * 8.9588 ms. A later single excursion beyond the band moves the answer to
+ * its end; a response that ends outside the band never recovers; one never
+ * outside recovers at once. */
+static void load_step_recovery_time_matches_analytic(void **state)
+{
+    (void)state;
+    const double D = 60.0, tau = 0.005, t_step = 0.1, dt = 1e-4, band = 10.0, e_inf = -6.0;
+    for (size_t k = 0; k < 2001; k++) {
+        t_buf[k] = (double)k * dt;
+        ref_buf[k] = 500.0;
+        const double x = t_buf[k] - t_step;
+        y_buf[k] = x < 0.0 ? 500.0 : 500.0 + e_inf - D * exp(-x / tau);
+    }
+    sim_signal_t sig = sampled(2001);
+    double rec = SENTINEL;
+    double settled = SENTINEL;
+    assert_int_equal(sim_metrics_recovery_time(&sig, ref_buf, t_step, 0.1, band, &rec, &settled),
+                     SIM_METRICS_OK);
+    assert_true(fabs(settled - e_inf) < 1e-4);
+    assert_true(fabs(rec - tau * log(D / band)) < 1e-6);
+
+    /* an excursion of +12 at samples x = 30.0 and 30.1 ms: back in the band
+     * (linear interpolation) at x = 30.1 ms + dt (12 - 10) / 12 */
+    const size_t k30 = (size_t)llround((t_step + 0.030) / dt);
+    y_buf[k30] = y_buf[k30 + 1] = 500.0 + e_inf + 12.0;
+    const double y_next = y_buf[k30 + 2] - 500.0 - e_inf; /* about -1e-1 */
+    assert_int_equal(sim_metrics_recovery_time(&sig, ref_buf, t_step, 0.1, band, &rec, NULL),
+                     SIM_METRICS_OK);
+    const double want = 0.0301 + dt * (12.0 - band) / (12.0 - y_next);
+    assert_true(fabs(rec - want) < 1e-9);
+
+    /* ends outside the band: a ramp away from the reference */
+    for (size_t k = 0; k < 2001; k++) {
+        y_buf[k] = 500.0 - 1000.0 * fmax(0.0, t_buf[k] - t_step);
+    }
+    rec = SENTINEL;
+    assert_int_equal(sim_metrics_recovery_time(&sig, ref_buf, t_step, 0.1, band, &rec, NULL),
+                     SIM_METRICS_ERR_NOT_REACHED);
+    assert_true(rec == SENTINEL);
+    /* never outside */
+    for (size_t k = 0; k < 2001; k++) {
+        y_buf[k] = 500.0 + 0.5 * sin(100.0 * t_buf[k]);
+    }
+    assert_int_equal(sim_metrics_recovery_time(&sig, ref_buf, t_step, 0.1, band, &rec, NULL),
+                     SIM_METRICS_OK);
+    assert_true(rec == 0.0);
+    assert_int_equal(sim_metrics_recovery_time(&sig, ref_buf, t_step, 0.1, 0.0, &rec, NULL),
+                     SIM_METRICS_ERR_ARGUMENT);
+    assert_int_equal(sim_metrics_recovery_time(&sig, NULL, t_step, 0.1, band, &rec, NULL),
+                     SIM_METRICS_ERR_ARGUMENT);
+    assert_int_equal(sim_metrics_recovery_time(&sig, ref_buf, 0.5, 0.1, band, &rec, NULL),
+                     SIM_METRICS_ERR_EMPTY);
+}
+
 static void degenerate_inputs_give_error_codes(void **state)
 {
     (void)state;
@@ -278,6 +336,7 @@ int main(void)
         cmocka_unit_test(sinusoid_rms_fluctuation_and_offset),
         cmocka_unit_test(window_selects_only_its_samples),
         cmocka_unit_test(load_step_dip_found_at_its_peak),
+        cmocka_unit_test(load_step_recovery_time_matches_analytic),
         cmocka_unit_test(degenerate_inputs_give_error_codes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

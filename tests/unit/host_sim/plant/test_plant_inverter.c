@@ -73,6 +73,36 @@ static void test_dead_time_linear_zone(void **state)
     assert_near(s->i_d_A, want, 1e-6 * want);
 }
 
+/* plant_set_dead_time: a dead time changed at run time (config 0 -> 3 us)
+ * acts from the next advance with the magnitude the config would have
+ * given it (the locked-rotor current of test_dead_time_sign_and_magnitude,
+ * (V - 4/3 t_d f v_dc) / R), and back to 0 restores V / R. Out-of-range
+ * dead times are refused and leave it unchanged. */
+static void test_dead_time_set_at_run_time(void **state)
+{
+    (void)state;
+    const double t_dead = 3e-6, v_cmd = 6.0;
+    const plant_config_t c = locked_config(0.0, 0.0, 0.0);
+    plant_t p;
+    const plant_true_state_t *s = run_locked(&p, &c, v_cmd, 8000);
+    assert_near(s->i_d_A, v_cmd / R_OHM, 1e-6 * v_cmd / R_OHM);
+    assert_int_equal(plant_set_dead_time(&p, t_dead), PLANT_OK);
+    assert_int_equal(plant_set_dead_time(&p, -1e-9), PLANT_ERR_ARGUMENT);
+    assert_int_equal(plant_set_dead_time(&p, 0.5 / 20000.0), PLANT_ERR_ARGUMENT);
+    assert_int_equal(plant_set_dead_time(&p, NAN), PLANT_ERR_ARGUMENT);
+    double duty[3];
+    test_duties_for_alpha_beta(v_cmd, 0.0, V_DC, duty);
+    for (int k = 0; k < 8000; ++k)
+        plant_advance(&p, duty, true);
+    const double v_a = v_cmd - 4.0 / 3.0 * t_dead * 20000.0 * V_DC;
+    assert_near(s->i_d_A, v_a / R_OHM, 1e-6 * v_a / R_OHM);
+    assert_near(s->v_abc_V[0], v_a, 1e-9);
+    assert_int_equal(plant_set_dead_time(&p, 0.0), PLANT_OK);
+    for (int k = 0; k < 8000; ++k)
+        plant_advance(&p, duty, true);
+    assert_near(s->i_d_A, v_cmd / R_OHM, 1e-6 * v_cmd / R_OHM);
+}
+
 /* The star point floats: adding the same offset to all duties changes
  * nothing; duties beyond [0, 1] are clamped. */
 static void test_common_mode_and_clamp(void **state)
@@ -175,6 +205,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dead_time_sign_and_magnitude),
         cmocka_unit_test(test_dead_time_linear_zone),
+        cmocka_unit_test(test_dead_time_set_at_run_time),
         cmocka_unit_test(test_common_mode_and_clamp),
         cmocka_unit_test(test_disabled_currents_extinguish),
         cmocka_unit_test(test_rectification_above_bus),

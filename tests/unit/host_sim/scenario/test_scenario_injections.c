@@ -111,6 +111,22 @@ static void each_kind_maps_to_its_injection(void **state)
     assert_true(inj[1].t_start_s == 0.3 && inj[1].t_end_s == 0.4);
     assert_int_equal(inj[2].kind, SIM_INJECT_BUS_SOURCE_LOSS);
     assert_true(inj[2].t_start_s == 0.5 && isinf(inj[2].t_end_s));
+
+    /* paper 002 Case II's changes */
+    const char *case2[] = {
+        "fault_injections=["
+        "{\"kind\": \"current_gain\", \"phase\": \"b\", \"gain\": 0.96, \"t_start_s\": 0.2},"
+        "{\"kind\": \"dead_time\", \"dead_time_s\": 7e-6, \"t_start_s\": 0.2, \"t_end_s\": 0.3}]",
+    };
+    load_ok(case2, 1);
+    assert_int_equal(scn.n_injections, 2);
+    assert_int_equal(inj[0].kind, SIM_INJECT_CURRENT_GAIN);
+    assert_int_equal(inj[0].phase, 1);
+    assert_true(inj[0].value == 0.96);
+    assert_true(inj[0].t_start_s == 0.2 && isinf(inj[0].t_end_s));
+    assert_int_equal(inj[1].kind, SIM_INJECT_DEAD_TIME);
+    assert_true(inj[1].value == 7e-6);
+    assert_true(inj[1].t_start_s == 0.2 && inj[1].t_end_s == 0.3);
 }
 
 typedef struct {
@@ -169,6 +185,15 @@ static const error_case_t error_cases[] = {
       SCN_ERR_UNKNOWN_KEY, "fault_injections[2].phase", NULL },
     { TWO_VALID "{\"kind\": \"bus_source_loss\", \"v_dc_V\": 0, \"t_start_s\": 0}]",
       SCN_ERR_UNKNOWN_KEY, "fault_injections[2].v_dc_V", NULL },
+    { TWO_VALID "{\"kind\": \"current_gain\", \"phase\": \"a\", \"gain\": 0, \"t_start_s\": 0}]",
+      SCN_ERR_RANGE, "fault_injections[2].gain", "(0, 10]" },
+    { TWO_VALID "{\"kind\": \"current_gain\", \"gain\": 1.05, \"t_start_s\": 0}]", SCN_ERR_MISSING,
+      "fault_injections[2].phase", NULL },
+    { TWO_VALID "{\"kind\": \"dead_time\", \"dead_time_s\": 2e-4, \"t_start_s\": 0}]",
+      SCN_ERR_RANGE, "fault_injections[2].dead_time_s", "[0, 0.0001]" },
+    { TWO_VALID "{\"kind\": \"dead_time\", \"phase\": \"a\", \"dead_time_s\": 1e-6,"
+                " \"t_start_s\": 0}]",
+      SCN_ERR_UNKNOWN_KEY, "fault_injections[2].phase", NULL },
     { TWO_VALID "{\"kind\": \"encoder_lost\", \"t_start_s\": 0}]", SCN_ERR_RANGE,
       "fault_injections[2].kind", "encoder_count_loss" },
     { TWO_VALID "{\"kind\": \"current_stuck\", \"phase\": \"a\", \"value_A\": 1, \"t_start_s\": 2,"

@@ -209,7 +209,9 @@ static void paper001_robustness_nam(void **state)
     expect_robustness_case("paper001_nam_psi115.json", b, 1.0, 1.0, 1.15);
 }
 
-/* Paper 002 Section IV: the experimental motor, Case I dead time. */
+/* Paper 002 Section IV: the experimental motor, Case I (10 kHz, 300 V,
+ * dead time 3 us, cogging at Q theta_m, speed step 0 -> 500 rpm at
+ * profile time 0 = after the 25.6 ms calibration). */
 static void paper002_case1(void **state)
 {
     (void)state;
@@ -219,21 +221,87 @@ static void paper002_case1(void **state)
     near(m->B_Nm_s_rad, 7.4e-5);
     assert_int_equal(m->cogging.slots, 32);
     near(scn.plant.inverter.t_dead_s, 3e-6);
+    near(scn.plant.inverter.f_pwm_Hz, 10e3);
     assert_int_equal(scn.plant.sensors.encoder.lines, 2500);
-    near(sim_profile_eval(&scn.reference.value, 0.2), 500.0 * MC_TEST_RAD_S_PER_RPM);
+    near(scn.time_offset_s, 0.0256);
+    near(scn.duration_s, 0.4256);
+    const double t0 = scn.time_offset_s;
+    near(sim_profile_eval(&scn.reference.value, t0 - 1e-6), 0.0);
+    near(sim_profile_eval(&scn.reference.value, t0 + 1e-6), 500.0 * MC_TEST_RAD_S_PER_RPM);
+    near(sim_profile_eval(&scn.plant.load_torque_Nm, t0 + 0.3), 0.0);
     assert_true(scn.metrics.has_step && scn.metrics.has_steady_window);
-    /* the firmware section (format 1's controller section, by block) */
+    near(scn.metrics.step_t_s, t0);
+    near(scn.metrics.steady_t0_s, t0 + 0.2);
+    near(scn.metrics.steady_t1_s, t0 + 0.4);
+    assert_int_equal(scn.metrics.n_windows, 1);
+    assert_string_equal(scn.metrics.windows[0].name, "spectrum");
     const mc_config_t *c = &scn.firmware;
     assert_int_equal(c->controller, MC_CONTROLLER_FOC_PI);
     assert_int_equal(c->estimator, MC_ESTIMATOR_ENCODER);
+    assert_false(c->deadtime.compensation);
     near(c->foc_pi.speed_bandwidth_rad_s, 200.0);
-    near(c->limits.omega_max_rad_s, 100.0);
-    near(c->limits.i_max_A, 4.0);
-    near(c->protection.i_trip_A, 8.0);
-    near(c->protection.v_dc_max_V, 400.0);
-    near(c->protection.v_dc_min_V, 200.0);
+    near(c->limits.i_max_A, 6.0);
     near(c->motor.R_ohm, 9.7f);
     assert_int_equal(c->motor.pole_pairs, 4);
+}
+
+/* Case II: Case I plus the paper's changes at profile time 0.2 s: gains
+ * 1.05 / 0.96 then offsets -0.5 / +0.8 A on phases a / b, dead time 7 us. */
+static void paper002_case2(void **state)
+{
+    (void)state;
+    load("paper002_case2_foc.json");
+    check_motor(9.7, 26e-3, 26e-3, 0.084, 4, 1.35e-4);
+    near(scn.plant.inverter.t_dead_s, 3e-6);
+    assert_int_equal(scn.n_injections, 7);
+    const sim_injection_t *inj = &scn.injections[2];
+    const double t = 0.2 + scn.time_offset_s;
+    assert_int_equal(inj[0].kind, SIM_INJECT_CURRENT_GAIN);
+    assert_int_equal(inj[0].phase, 0);
+    near(inj[0].value, 1.05);
+    assert_int_equal(inj[1].kind, SIM_INJECT_CURRENT_GAIN);
+    assert_int_equal(inj[1].phase, 1);
+    near(inj[1].value, 0.96);
+    assert_int_equal(inj[2].kind, SIM_INJECT_CURRENT_OFFSET);
+    assert_int_equal(inj[2].phase, 0);
+    near(inj[2].value, -0.5);
+    assert_int_equal(inj[3].kind, SIM_INJECT_CURRENT_OFFSET);
+    assert_int_equal(inj[3].phase, 1);
+    near(inj[3].value, 0.8);
+    assert_int_equal(inj[4].kind, SIM_INJECT_DEAD_TIME);
+    near(inj[4].value, 7e-6);
+    for (int i = 0; i < 5; i++) {
+        near(inj[i].t_start_s, t);
+        assert_true(isinf(inj[i].t_end_s));
+    }
+}
+
+/* Cases III and IV: the paper's load, 0 (t < 0.1 s), 1.5 N m (0.1-0.2 s),
+ * 1.5 + sin(50 pi t) N m (0.2-0.4 s); Case III the step alone. */
+static void paper002_case3_case4(void **state)
+{
+    (void)state;
+    load("paper002_case3_foc.json");
+    const double t0 = scn.time_offset_s;
+    const sim_profile_t *l = &scn.plant.load_torque_Nm;
+    near(sim_profile_eval(l, t0 + 0.099), 0.0);
+    near(sim_profile_eval(l, t0 + 0.1001), 1.5);
+    near(sim_profile_eval(l, t0 + 0.35), 1.5);
+    assert_int_equal(scn.metrics.n_load_steps, 1);
+    near(scn.metrics.load_step_t_s[0], t0 + 0.1);
+    near(scn.metrics.dip_window_s, 0.1);
+    near(scn.metrics.recovery_band, 10.0);
+    load("paper002_case4_foc.json");
+    l = &scn.plant.load_torque_Nm;
+    near(sim_profile_eval(l, t0 + 0.099), 0.0);
+    near(sim_profile_eval(l, t0 + 0.15), 1.5);
+    for (double tb = 0.2; tb <= 0.4; tb += 0.0137) {
+        assert_true(fabs(sim_profile_eval(l, t0 + tb) -
+                         (1.5 + sin(50.0 * 3.14159265358979323846 * tb))) < 1e-9);
+    }
+    assert_int_equal(scn.metrics.n_load_steps, 1);
+    near(scn.metrics.steady_t0_s, t0 + 0.2);
+    near(scn.metrics.steady_t1_s, t0 + 0.4);
 }
 
 /* Paper 000 Table 1 motor, g3 = 1/j + 1e4 sin(t), position regulation. */
@@ -403,6 +471,7 @@ int main(void)
         cmocka_unit_test(paper001_benchmark),      cmocka_unit_test(paper001_sensorless_idapbc),
         cmocka_unit_test(paper001_sensorless_nam), cmocka_unit_test(paper001_robustness_idapbc),
         cmocka_unit_test(paper001_robustness_nam), cmocka_unit_test(paper002_case1),
+        cmocka_unit_test(paper002_case2),          cmocka_unit_test(paper002_case3_case4),
         cmocka_unit_test(paper000_position),       cmocka_unit_test(readme_full_example_is_valid),
         cmocka_unit_test(paper001_realistic),      cmocka_unit_test(paper000_eeo_bench),
     };
