@@ -2,6 +2,7 @@
  * internal model (7), control (12) and backward-Euler observer (13).
  * See mc/eeo.h. */
 #include "mc/eeo.h"
+#include "mc/finite.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -40,17 +41,6 @@ static bool all_finite(const float *x, uint32_t n)
             return false;
         }
     }
-    return true;
-}
-
-/* double -> float that must stay finite (and nonzero if it was) */
-static bool to_f32(double x, float *y)
-{
-    const float f = (float)x;
-    if (!isfinite(f) || (x != 0.0 && f == 0.0f)) {
-        return false;
-    }
-    *y = f;
     return true;
 }
 
@@ -148,19 +138,20 @@ mc_status_t mc_eeo_init_f32(mc_eeo_f32_t *ctl, const mc_eeo_params_t *p)
     mc_eeo_f32_t c = { 0 };
     bool ok = true;
     for (uint32_t i = 0; i < 4u; ++i) {
-        ok = ok && to_f32(l[i], &c.l[i]) && to_f32(m[i], &c.m[i]);
+        ok = ok && mc_f64_to_f32(l[i], &c.l[i]) && mc_f64_to_f32(m[i], &c.m[i]);
     }
     for (uint32_t i = 0; i < p->n_w; ++i) {
-        ok = ok && to_f32(gam[i], &c.gamma[i]) && to_f32(Ed[i], &c.E[i]);
+        ok = ok && mc_f64_to_f32(gam[i], &c.gamma[i]) &&
+             mc_f64_to_f32(Ed[i], &c.E[i]);
         for (uint32_t j = 0; j < p->n_w; ++j) {
-            ok = ok && to_f32(Dd[i * p->n_w + j], &c.D[i * p->n_w + j]);
+            ok = ok && mc_f64_to_f32(Dd[i * p->n_w + j], &c.D[i * p->n_w + j]);
         }
     }
     /* 1 - m1 = 1 / (1 + w1) = m4 / w4 (mc/eeo.h), without cancellation */
-    ok = ok && to_f32(m[3] / (h * l[3]), &c.m1c);
+    ok = ok && mc_f64_to_f32(m[3] / (h * l[3]), &c.m1c);
     const double inv_b = 1.0 / (double)p->b_bar_Nm_per_Vs; /* b_bar != 0 */
-    ok = ok && to_f32(inv_b, &c.inv_b_bar) &&
-         to_f32(g2 * (double)p->rad_per_count, &c.y_per_count);
+    ok = ok && mc_f64_to_f32(inv_b, &c.inv_b_bar) &&
+         mc_f64_to_f32(g2 * (double)p->rad_per_count, &c.y_per_count);
     if (!ok) {
         return MC_ERR_PARAM;
     }

@@ -2,6 +2,7 @@
  * placement for (7), ZOH of the internal model, backward-Euler gains of
  * (13). See mc/eeo.h. */
 #include "mc/eeo.h"
+#include "mc/zoh.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -117,97 +118,23 @@ mc_status_t mc_eeo_gamma_place(uint32_t n, const double *f_coef,
     return MC_OK;
 }
 
-/* y = a * b for (n x n) row-major matrices */
-static void matmul(uint32_t n, const double *a, const double *b, double *y)
-{
-    for (uint32_t i = 0; i < n; ++i) {
-        for (uint32_t j = 0; j < n; ++j) {
-            double s = 0.0;
-            for (uint32_t k = 0; k < n; ++k) {
-                s += a[i * n + k] * b[k * n + j];
-            }
-            y[i * n + j] = s;
-        }
-    }
-}
-
 mc_status_t mc_eeo_companion_zoh(uint32_t n, const double *coef, double Ts_s,
                                  double *D, double *E)
 {
-    enum { NA = MC_EEO_NW_MAX + 1 };
     if (n < 1u || n > MC_EEO_NW_MAX) {
         return MC_ERR_PARAM;
     }
-    if (!isfinite(Ts_s)) {
-        return MC_ERR_NONFINITE;
-    }
-    if (!(Ts_s > 0.0)) {
-        return MC_ERR_PARAM;
-    }
-    /* augmented X = [M g; 0 0] Ts, size na: exp(X) - I = [D E; 0 0] */
-    const uint32_t na = n + 1u;
-    double X[NA * NA] = { 0.0 };
+    /* companion matrix of coef, g = e_n (mc/zoh.h does the rest) */
+    double M[MC_EEO_NW_MAX * MC_EEO_NW_MAX] = { 0.0 };
+    double g[MC_EEO_NW_MAX] = { 0.0 };
     for (uint32_t i = 0; i + 1u < n; ++i) {
-        X[i * na + i + 1u] = Ts_s;
+        M[i * n + i + 1u] = 1.0;
     }
-    double norm = 0.0; /* max abs row sum */
     for (uint32_t j = 0; j < n; ++j) {
-        if (!isfinite(coef[j])) {
-            return MC_ERR_NONFINITE;
-        }
-        X[(n - 1u) * na + j] = -coef[j] * Ts_s;
+        M[(n - 1u) * n + j] = -coef[j];
     }
-    X[(n - 1u) * na + n] = Ts_s; /* g = e_n */
-    for (uint32_t i = 0; i < na; ++i) {
-        double s = 0.0;
-        for (uint32_t j = 0; j < na; ++j) {
-            s += fabs(X[i * na + j]);
-        }
-        norm = (s > norm) ? s : norm;
-    }
-    if (!(norm <= 1e3)) {
-        return MC_ERR_PARAM;
-    }
-    uint32_t sq = 0;
-    double scale = 1.0;
-    while (norm * scale > 0.5) {
-        scale *= 0.5;
-        ++sq;
-    }
-    /* Dm = exp(X scale) - I by Taylor, 20 terms (||X scale|| <= 0.5:
-     * truncation < 0.5^21 / 21! relative) */
-    double Xs[NA * NA], term[NA * NA], tmp[NA * NA], Dm[NA * NA];
-    for (uint32_t i = 0; i < na * na; ++i) {
-        Xs[i] = X[i] * scale;
-        term[i] = Xs[i];
-        Dm[i] = Xs[i];
-    }
-    for (uint32_t k = 2; k <= 20u; ++k) {
-        matmul(na, term, Xs, tmp);
-        for (uint32_t i = 0; i < na * na; ++i) {
-            term[i] = tmp[i] / (double)k;
-            Dm[i] += term[i];
-        }
-    }
-    /* (I + Dm)^2 - I = 2 Dm + Dm^2 */
-    for (uint32_t s = 0; s < sq; ++s) {
-        matmul(na, Dm, Dm, tmp);
-        for (uint32_t i = 0; i < na * na; ++i) {
-            Dm[i] = 2.0 * Dm[i] + tmp[i];
-        }
-    }
-    for (uint32_t i = 0; i < na * na; ++i) {
-        if (!isfinite(Dm[i])) {
-            return MC_ERR_PARAM;
-        }
-    }
-    for (uint32_t i = 0; i < n; ++i) {
-        for (uint32_t j = 0; j < n; ++j) {
-            D[i * n + j] = Dm[i * na + j];
-        }
-        E[i] = Dm[i * na + n];
-    }
-    return MC_OK;
+    g[n - 1u] = 1.0;
+    return mc_zoh_f64(n, M, g, Ts_s, D, E);
 }
 
 mc_status_t mc_eeo_be_gains(double Ts_s, double g2, double g3, const double *l,

@@ -1,6 +1,8 @@
 /* Finiteness of a batch of values (mc/finite.h). */
 #include "mc/finite.h"
 
+#include <math.h>
+
 bool mc_all_finite_f32(const float *x, uint32_t n)
 {
     /* x * 0 is exactly +-0 for a finite x and NaN for a NaN or an
@@ -12,4 +14,14 @@ bool mc_all_finite_f32(const float *x, uint32_t n)
         acc += x[k] * 0.0f;
     }
     return acc == 0.0f;
+}
+
+bool mc_f64_to_f32(double x, float *y)
+{
+    const float f = (float)x;
+    if (!isfinite(f) || (x != 0.0 && f == 0.0f)) {
+        return false;
+    }
+    *y = f;
+    return true;
 }

@@ -1,10 +1,11 @@
 /*
- * Small dense linear algebra in double for the paper-000 regulator tests,
- * written independently of the firmware: linear solve (Gauss with partial
- * pivoting), matrix exponential (plain Taylor with scaling and squaring of
- * exp itself) and the eigenvalues of a real matrix (balancing, reduction
- * to Hessenberg form, shifted QR: the classic EISPACK balanc/elmhes/hqr
- * sequence).
+ * Small dense linear algebra in double for the paper-000 and paper-002
+ * regulator tests, written independently of the firmware: linear solve
+ * (Gauss with partial pivoting), matrix exponential (plain Taylor with
+ * scaling and squaring of exp itself), characteristic polynomial
+ * (Faddeev-LeVerrier) and the eigenvalues of a real matrix (balancing,
+ * reduction to Hessenberg form, shifted QR: the classic EISPACK
+ * balanc/elmhes/hqr sequence).
  */
 #ifndef EEO_TEST_LINALG_H
 #define EEO_TEST_LINALG_H
@@ -12,7 +13,7 @@
 #include <math.h>
 #include <string.h>
 
-#define LA_NMAX 16
+#define LA_NMAX 20
 
 /* y = a b, (n x n) row major */
 static inline void la_mul(int n, const double *a, const double *b, double *y)
@@ -113,6 +114,31 @@ static inline void la_expm(int n, const double *a, double *y)
         la_mul(n, e, e, e);
     }
     memcpy(y, e, sizeof(double) * (size_t)(n * n));
+}
+
+/* Faddeev-LeVerrier: characteristic polynomial of a (n x n), monic, low
+ * order first: c[0..n-1] */
+static inline void la_charpoly(int n, const double *a, double *c)
+{
+    double Mk[LA_NMAX * LA_NMAX] = { 0.0 }, AM[LA_NMAX * LA_NMAX];
+    double ck = 1.0; /* c_n */
+    for (int k = 1; k <= n; ++k) {
+        /* M_k = A M_{k-1} + c_{n-k+1} I */
+        la_mul(n, a, Mk, AM);
+        for (int i = 0; i < n * n; ++i) {
+            Mk[i] = AM[i];
+        }
+        for (int i = 0; i < n; ++i) {
+            Mk[i * n + i] += ck;
+        }
+        la_mul(n, a, Mk, AM);
+        double tr = 0.0;
+        for (int i = 0; i < n; ++i) {
+            tr += AM[i * n + i];
+        }
+        ck = -tr / (double)k;
+        c[n - k] = ck;
+    }
 }
 
 /* Eigenvalues of a (n x n, row major; copied): wr + i wi. 0 on success. */

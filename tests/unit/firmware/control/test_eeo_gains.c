@@ -5,7 +5,7 @@
  *   printed a = (33.61, 33.61, 135483, 48604) to their printed precision
  *   (Table 1 motor, j = 5.5367e-5 kg m^2, g3 = 1/j +- 1e4);
  * - Gamma placement: the characteristic polynomial of F + G Gamma,
- *   computed here by Faddeev-LeVerrier, is the requested one; its
+ *   computed by Faddeev-LeVerrier (eeo_test_linalg.h), is the requested one; its
  *   eigenvalues are the requested roots;
  * - the internal model's ZOH against an independent matrix exponential;
  * - input validation, non-finite handling, the integer position helpers.
@@ -103,31 +103,6 @@ static void test_instance_gains(void **state)
     assert_near(c.gamma[2], 3.0, 0.0);
 }
 
-/* Faddeev-LeVerrier: characteristic polynomial of a (n x n), monic, low
- * order first: c[0..n-1] */
-static void charpoly(int n, const double *a, double *c)
-{
-    double Mk[LA_NMAX * LA_NMAX] = { 0.0 }, AM[LA_NMAX * LA_NMAX];
-    double ck = 1.0; /* c_n */
-    for (int k = 1; k <= n; ++k) {
-        /* M_k = A M_{k-1} + c_{n-k+1} I */
-        la_mul(n, a, Mk, AM);
-        for (int i = 0; i < n * n; ++i) {
-            Mk[i] = AM[i];
-        }
-        for (int i = 0; i < n; ++i) {
-            Mk[i * n + i] += ck;
-        }
-        la_mul(n, a, Mk, AM);
-        double tr = 0.0;
-        for (int i = 0; i < n; ++i) {
-            tr += AM[i * n + i];
-        }
-        ck = -tr / (double)k;
-        c[n - k] = ck;
-    }
-}
-
 static void companion(int n, const double *coef, double *m)
 {
     for (int i = 0; i < n * n; ++i) {
@@ -151,7 +126,7 @@ static void check_placement(int n, const double *f, const double *s)
     for (int j = 0; j < n; ++j) {
         Phi[(n - 1) * n + j] += gam[j];
     }
-    charpoly(n, Phi, c);
+    la_charpoly(n, Phi, c);
     for (int i = 0; i < n; ++i) {
         assert_near(c[i], s[i], 1e-12 * (1.0 + fabs(s[i])));
     }

@@ -5,6 +5,9 @@
  * elements; finite batches pass, including -0, subnormals, FLT_MAX,
  * -FLT_MAX (x * 0 must stay 0, not overflow to NaN) and n = 0; elements
  * beyond n are not read into the verdict.
+ * mc_f64_to_f32: finite, representable values convert; overflow, a
+ * nonzero value rounding to 0 and non-finite values are refused and
+ * leave the output untouched.
  */
 #include "mc_test.h"
 
@@ -122,12 +125,30 @@ static void test_non_finite_at_every_position(void **state)
     assert_int_equal(checked, 6u * N_MAX * (N_MAX + 1u) / 2u);
 }
 
+static void test_f64_to_f32(void **state)
+{
+    (void)state;
+    float y = 5.0f;
+    assert_true(mc_f64_to_f32(0.1, &y));
+    assert_true(y == 0.1f);
+    assert_true(mc_f64_to_f32(0.0, &y));
+    assert_true(y == 0.0f);
+    assert_true(mc_f64_to_f32(-3e38, &y));
+    y = 5.0f;
+    assert_false(mc_f64_to_f32(1e39, &y));  /* overflow */
+    assert_false(mc_f64_to_f32(1e-50, &y)); /* nonzero rounds to zero */
+    assert_false(mc_f64_to_f32(NAN, &y));
+    assert_false(mc_f64_to_f32(-INFINITY, &y));
+    assert_true(y == 5.0f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_finite_batches_pass),
         cmocka_unit_test(test_only_n_elements),
         cmocka_unit_test(test_non_finite_at_every_position),
+        cmocka_unit_test(test_f64_to_f32),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
