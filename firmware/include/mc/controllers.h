@@ -12,6 +12,7 @@
 #ifndef MC_CONTROLLERS_H
 #define MC_CONTROLLERS_H
 
+#include "mc/ctl_cdobc.h"
 #include "mc/ctl_eeo.h"
 #include "mc/ctl_foc_pi.h"
 #include "mc/ctl_idapbc.h"
@@ -19,7 +20,8 @@
 #define MC_CONTROLLERS(X)                                                      \
     X(foc_pi, FOC_PI)                                                          \
     X(idapbc, IDAPBC)                                                          \
-    X(eeo, EEO)
+    X(eeo, EEO)                                                                \
+    X(cdobc, CDOBC)
 
 typedef enum {
 #define MC_X_ENUM(name, NAME) MC_CONTROLLER_##NAME,

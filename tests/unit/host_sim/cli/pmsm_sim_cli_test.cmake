@@ -213,12 +213,13 @@ elseif(CASE STREQUAL "keys")
   foreach(key firmware.controller firmware.estimator firmware.timing.slow_loop_Hz
           firmware.foc_pi.speed_bandwidth_rad_s firmware.idapbc.integral_enabled
           firmware.encoder.pll_bandwidth_rad_s firmware.flux_ii.a1
-          firmware.flux_pll.bandwidth_rad_s firmware.eeo.kappa)
+          firmware.flux_pll.bandwidth_rad_s firmware.eeo.kappa
+          firmware.cdobc.poly_order firmware.cdobc.pid)
     string(REPLACE "." "\\." pattern "${key}")
     check("pmsm-sim keys lacks ${key}:\n${out}" out MATCHES "\n  ${pattern} ")
   endforeach()
   check("pmsm-sim keys lists the list names:\n${out}" out MATCHES
-        "firmware\\.controller +one of foc_pi \\| idapbc \\| eeo +default foc_pi")
+        "firmware\\.controller +one of foc_pi \\| idapbc \\| eeo \\| cdobc +default foc_pi")
   foreach(plant_value "firmware\\.motor\\." "firmware\\.timing\\.f_pwm_Hz"
           "firmware\\.encoder\\.counts_per_rev")
     check("pmsm-sim keys lists a plant value (${plant_value}):\n${out}"

@@ -542,7 +542,14 @@ static void format_1_is_refused(void **state)
 
 /* Controller and estimator of a minimal document: each pair validates a
  * different set of blocks. */
-typedef enum { CTX_ENCODER = 0, CTX_FLUX_PLL, CTX_FLUX_II, CTX_EEO, CTX_COUNT } context_t;
+typedef enum {
+    CTX_ENCODER = 0,
+    CTX_FLUX_PLL,
+    CTX_FLUX_II,
+    CTX_EEO,
+    CTX_CDOBC,
+    CTX_COUNT
+} context_t;
 
 static const struct {
     const char *controller;
@@ -552,6 +559,7 @@ static const struct {
     [CTX_FLUX_PLL] = { "foc_pi", "flux_pll" }, /* + align, flux_obs, flux_pll */
     [CTX_FLUX_II] = { "idapbc", "flux_ii" },   /* + idapbc, flux_ii */
     [CTX_EEO] = { "eeo", "encoder" },          /* + eeo */
+    [CTX_CDOBC] = { "cdobc", "encoder" },      /* + cdobc */
 };
 
 /* A minimal valid document (the paper 001 motor, default plant) with this
@@ -642,6 +650,26 @@ static const field_case_t field_cases[] = {
     { "eeo.g3_omega_rad_s", CTX_EEO, 2.0 },
     { "eeo.g3_phase_rad", CTX_EEO, 0.5 },
     { "eeo.matched_start", CTX_EEO, 0.0 },
+    { "cdobc.poly_order", CTX_CDOBC, 1 },
+    { "cdobc.dead_time_model", CTX_CDOBC, 0 },
+    { "cdobc.cogging_order", CTX_CDOBC, 16 },
+    { "cdobc.sensor_offset_model", CTX_CDOBC, 1 },
+    { "cdobc.sensor_gain_model", CTX_CDOBC, 1 },
+    { "cdobc.robust_placement", CTX_CDOBC, 0 },
+    { "cdobc.harm_zeta", CTX_CDOBC, 0.2 },
+    { "cdobc.ctl_pole_rad_s", CTX_CDOBC, 150 },
+    { "cdobc.obs_pole_rad_s", CTX_CDOBC, 600 },
+    { "cdobc.kp_d_V_A", CTX_CDOBC, 60 },
+    { "cdobc.ki_d_V_As", CTX_CDOBC, 120 },
+    { "cdobc.v_max_V", CTX_CDOBC, 150 },
+    { "cdobc.omega_min_rad_s", CTX_CDOBC, 20 },
+    { "cdobc.design_speed_rad_s", CTX_CDOBC, 40 },
+    { "cdobc.redesign_rel_tol", CTX_CDOBC, 0.01 },
+    { "cdobc.pid", CTX_CDOBC, 1 },
+    { "cdobc.pid_kp_V_s", CTX_CDOBC, 2 },
+    { "cdobc.pid_ki_V", CTX_CDOBC, 20 },
+    { "cdobc.pid_kd_V_s2", CTX_CDOBC, 0.002 },
+    { "cdobc.pid_feedforward", CTX_CDOBC, 1 },
     { "encoder.offset_e_rad", CTX_ENCODER, 0.5 },
     { "encoder.pll_bandwidth_rad_s", CTX_ENCODER, 800.0 },
     { "flux_ii.a1", CTX_FLUX_II, 25.0 },
@@ -855,7 +883,8 @@ static void plant_values_are_not_firmware_keys(void **state)
 static void controller_and_estimator_names(void **state)
 {
     (void)state;
-    assert_int_equal(MC_CONTROLLER_COUNT, 3);
+    assert_int_equal(MC_CONTROLLER_COUNT, 4);
+    assert_string_equal(mc_controller_name(MC_CONTROLLER_CDOBC), "cdobc");
     assert_string_equal(mc_controller_name(MC_CONTROLLER_EEO), "eeo");
     assert_string_equal(mc_controller_name(MC_CONTROLLER_FOC_PI), "foc_pi");
     assert_string_equal(mc_controller_name(MC_CONTROLLER_IDAPBC), "idapbc");
@@ -893,7 +922,7 @@ static void controller_and_estimator_names(void **state)
         assert_false(load(valid_doc, overrides, 1));
         assert_int_equal(err.code, SCN_ERR_RANGE);
         assert_string_equal(err.path, "firmware.controller");
-        assert_string_equal(err.expected, "one of \"foc_pi\", \"idapbc\", \"eeo\"");
+        assert_string_equal(err.expected, "one of \"foc_pi\", \"idapbc\", \"eeo\", \"cdobc\"");
     }
     /* format 1's angle_source names are not estimators */
     const char *bad_estimators[] = { "flux_observer", "hall", "Encoder", "flux" };

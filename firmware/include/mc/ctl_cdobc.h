@@ -1,0 +1,194 @@
+/*
+ * Controller "cdobc": paper 002's noncascade speed regulators (mc/cdobc.h)
+ * in the drive. One controller for the whole family: the internal models
+ * the observer carries are configuration, so
+ *   CDOBC  = 6th electrical + Q-th mechanical harmonics + polynomial N = 2
+ *            (the defaults),
+ *   GPIOBC = polynomial only (dead_time_model false, cogging_order 0),
+ *   HDOBC  = harmonics only (poly_order 0),
+ * and `pid` true runs the paper's noncascade PID baseline (23, 10, 0.0167)
+ * instead of the observer, with the same d-axis PI, voltage limits,
+ * applied-voltage bookkeeping and protection. Optional models: 1st and
+ * 2nd electrical (current-sensor offset and gain errors).
+ *
+ * Voltage: the regulator commands v_q (and v_d from a PI on -i_d) directly,
+ * with no current loop, like mc/ctl_eeo.h; each axis is clamped to
+ * +-v_max_V by the block, then the vector to the SVPWM circle v_dc /
+ * sqrt(3) (keep angle) here, so that the voltage the observer is told is
+ * the one the modulator applies. The application's measured-current limit
+ * (mc/current_limit.h) acts afterwards, like on every controller; the
+ * voltage it leaves (mc_drive_t.v_q_last_V, circle-limited again at the
+ * next step with that step's bus) is what the observer takes as the
+ * voltage applied over the period (mc_cdobc_f32_t.v_cur, the (6)
+ * coupling term of that step removed). The supervisor, the trips and the
+ * limit loop's fault act unchanged.
+ *
+ * Speed: t->omega_m_rad_s (the estimator's, e.g. the encoder PLL); the
+ * observer is driven by -omega (mc/cdobc.h). Speed reference: the shared
+ * setpoint stage (mc/outer_loop.h) on its slow tick, so position mode
+ * works through its P loop; current mode runs the d/q current loop
+ * (bumpless both ways: the regulator restarts at the measured speed).
+ *
+ * Delay: the block models exactly one period between the computation and
+ * the start of the hold (voltage computed at t_k held over (t_k + Ts,
+ * t_k + 2 Ts]), which is the HAL's sample-to-apply delay d = 1.5 (centre
+ * sampling, duties of the next period: the host bench). d = 1.0 (the
+ * configuration check's nominal, or a HAL that applies within the period)
+ * is half a period early against that model; d > 1.75 is rejected (an
+ * unmodelled extra period).
+ *
+ * Design and redesign (the model frequencies follow |omega*|): the design
+ * (double, about 85k multiply-adds for the largest model set, 21 KB of
+ * stack) runs at init for design_speed_rad_s (the bench's 500 rpm). The
+ * application offers no context below the fast ISR (its slow loop is a
+ * decimated part of the ISR, mc/app.h), so by default (redesign_rel_tol =
+ * 0) the design stays fixed: a reference away from design_speed_rad_s
+ * detunes the harmonic models (1 % detuning leaves about 15 % of a
+ * harmonic, mc/cdobc.h). redesign_rel_tol > 0 redesigns on the slow tick
+ * whenever mc_cdobc_needs_redesign_f32 says so, inside the ISR: a few ms
+ * of soft double on a Cortex-M4F, far beyond a 100 us period, so for the
+ * host bench only. The MCU plan: a background task that designs into the
+ * spare half of a double-buffered coefficient set and a flag the ISR
+ * polls to swap (mc_cdobc_set_coef_f32, about n^2 + 4 n words).
+ * Interface: mc/drive.h.
+ */
+#ifndef MC_CTL_CDOBC_H
+#define MC_CTL_CDOBC_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "mc/cdobc.h"
+#include "mc/circle_limit.h"
+#include "mc/compiler.h"
+#include "mc/drive.h"
+#include "mc/estimator.h"
+#include "mc/faults.h"
+#include "mc/params.h"
+#include "mc/timing.h"
+
+typedef struct {
+    uint32_t poly_order;      /* N of the polynomial model, 0 .. 3 (2) */
+    bool dead_time_model;     /* 6th electrical harmonic (true) */
+    uint32_t cogging_order;   /* Q-th mechanical harmonic, 0 = none (32) */
+    bool sensor_offset_model; /* 1st electrical harmonic (false) */
+    bool sensor_gain_model;   /* 2nd electrical harmonic (false) */
+    bool robust_placement;    /* harmonic observer pairs at their
+                                 frequency (true) or all at -obs_pole
+                                 (false: the paper's literal design) */
+    float harm_zeta;          /* robust: damping of those pairs (0.1) */
+    float ctl_pole_rad_s;     /* controller poles at -this (200) */
+    float obs_pole_rad_s;     /* observer poles at -this (520) */
+    float kp_d_V_A;           /* d-axis PI (120) */
+    float ki_d_V_As;          /* (240) */
+    float v_max_V;            /* |v_q|, |v_d| limit before the circle (200) */
+    float omega_min_rad_s;    /* floor of |omega*| for the frequencies (10) */
+    float design_speed_rad_s; /* |omega*| of the init design (500 rpm) */
+    float redesign_rel_tol;   /* > 0: redesign in the ISR's slow tick when
+                                 |omega*| moves by more (host only); 0 */
+    bool pid;                 /* the noncascade PID baseline instead */
+    float pid_kp_V_s;         /* V per rad/s (23) */
+    float pid_ki_V;           /* V per rad (10) */
+    float pid_kd_V_s2;        /* V s^2 / rad (0.0167) */
+    bool pid_feedforward;     /* add the (6) back-EMF term (false) */
+} mc_ctl_cdobc_config_t;
+
+typedef struct {
+    mc_cdobc_f32_t law;     /* observer regulator (its d-axis PI also
+                               serves the PID variant) */
+    mc_cdobc_pid_f32_t pid; /* baseline */
+    mc_cdobc_params_t p;    /* for the redesign */
+    bool use_pid;
+    bool restart;       /* reset at the next step */
+    float redesign_tol; /* 0: fixed design */
+    float u_c_prev_V;   /* (6) coupling term of the last step */
+    float v_dc_prev_V;  /* bus of the last step */
+} mc_ctl_cdobc_t;
+
+MC_CONTROLLER_INTERFACE(cdobc);
+
+/* Redesign for |omega*| (slow tick, redesign_rel_tol > 0). A failed
+ * design (e.g. a model frequency beyond a quarter of the sampling rate)
+ * keeps the coefficients in use. Interrupt context: yes, but unbounded
+ * against the period on an MCU (see above). */
+void mc_ctl_cdobc_redesign(mc_ctl_cdobc_t *ctl, float omega_ref_rad_s);
+
+/* Speed / position mode: v_d, v_q into *t. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
+                                                     mc_drive_t *d,
+                                                     const mc_command_t *cmd,
+                                                     mc_telemetry_t *t)
+{
+    mc_outer_loop_f32_t *o = &d->outer;
+    const bool tick = mc_outer_loop_speed_f32(o, cmd, t);
+    mc_outer_loop_publish_f32(o, t);
+    t->i_d_ref_A = 0.0f; /* no current loop */
+    t->i_q_ref_A = 0.0f;
+    const float w = t->omega_m_rad_s;
+    const float w_ref = o->omega_m_ref_rad_s;
+    if (ctl->restart) {
+        if (mc_cdobc_reset_f32(&ctl->law, w) != MC_OK ||
+            mc_cdobc_pid_reset_f32(&ctl->pid, w) != MC_OK) {
+            return MC_FAULT_NONFINITE;
+        }
+        ctl->u_c_prev_V = 0.0f;
+        ctl->restart = false;
+    }
+    /* the voltage applied over the current period: the last command after
+     * the current limit and the modulator's circle */
+    float v_d = d->v_d_last_V;
+    float v_q = d->v_q_last_V;
+    const float r_prev = ctl->v_dc_prev_V * 0.57735027f;
+    if (r_prev > 0.0f) {
+        (void)mc_circle_limit_f32(&v_d, &v_q, r_prev);
+    }
+    ctl->law.v_cur = v_q - ctl->u_c_prev_V;
+    if (tick && ctl->redesign_tol > 0.0f &&
+        mc_cdobc_needs_redesign_f32(&ctl->law, w_ref, ctl->redesign_tol)) {
+        mc_ctl_cdobc_redesign(ctl, w_ref);
+    }
+    mc_cdobc_out_t out;
+    if (ctl->use_pid) {
+        if (mc_cdobc_pid_step_f32(&ctl->pid, w, w_ref, &out.v_q_V) != MC_OK) {
+            return MC_FAULT_NONFINITE;
+        }
+        out.v_d_V = mc_pi_step_f32(&ctl->law.pi_d, -t->i_d_A);
+        out.q_limited =
+            !(out.v_q_V < ctl->law.v_max_V) || !(out.v_q_V > -ctl->law.v_max_V);
+        out.d_limited = false;
+        ctl->u_c_prev_V = 0.0f;
+    } else {
+        if (mc_cdobc_step_f32(&ctl->law, w, w_ref, t->i_d_A, &out) != MC_OK) {
+            return MC_FAULT_NONFINITE;
+        }
+        ctl->u_c_prev_V = out.v_q_V - ctl->law.v_cur;
+    }
+    const float v_dc = (t->v_dc_V > 0.0f) ? t->v_dc_V : 0.0f;
+    ctl->v_dc_prev_V = v_dc;
+    bool circle = false;
+    if (v_dc > 0.0f) {
+        circle =
+            mc_circle_limit_f32(&out.v_d_V, &out.v_q_V, v_dc * 0.57735027f);
+    }
+    t->v_d_V = out.v_d_V;
+    t->v_q_V = out.v_q_V;
+    t->v_saturated = out.q_limited || out.d_limited || circle;
+    return MC_FAULT_NONE;
+}
+
+/* Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_step(mc_ctl_cdobc_t *ctl,
+                                                 mc_drive_t *d,
+                                                 const mc_command_t *cmd,
+                                                 mc_telemetry_t *t)
+{
+    if (cmd->mode == MC_MODE_CURRENT) {
+        mc_outer_loop_f32_t *o = &d->outer;
+        mc_outer_loop_current_f32(o, cmd);
+        mc_outer_loop_publish_f32(o, t);
+        return mc_drive_current_step(d, t);
+    }
+    return mc_ctl_cdobc_voltages(ctl, d, cmd, t);
+}
+
+#endif /* MC_CTL_CDOBC_H */
