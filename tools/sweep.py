@@ -502,8 +502,11 @@ def plot_heatmaps(sweep, rows, path):
             lo, hi = min(finite), max(finite)
             norms[m["name"]] = LogNorm(lo, hi if hi > lo else lo * 10) if m["scale"] == "log" \
                 else Normalize(lo, hi if hi > lo else lo + 1)
+    # A map is wider than 4.6 in when its x axis has more than 8 values
+    # (0.55 in per cell: the annotations stay readable).
+    width = max(4.6, 0.55 * max(len(axes[ix]["points"]) for ix, _ in pairs) + 1.5)
     fig, grid = plt.subplots(len(panels), len(pairs), squeeze=False,
-                             figsize=(4.6 * len(pairs), 3.6 * len(panels)))
+                             figsize=(width * len(pairs), 3.6 * len(panels)))
     for pi, (base, m) in enumerate(panels):
         for pj, (ix, iy) in enumerate(pairs):
             ax = grid[pi][pj]
@@ -540,7 +543,8 @@ def plot_heatmaps(sweep, rows, path):
                         norm(val[y][x]) > 0.6
                     ax.text(x, y, note[y][x], ha="center", va="center", fontsize=7,
                             color="black" if bright or not math.isfinite(val[y][x]) else "white")
-            ax.set_xticks(range(nx), [label_text(p[0]) for p in axes[ix]["points"]])
+            ax.set_xticks(range(nx), [label_text(p[0]) for p in axes[ix]["points"]],
+                          rotation=90 if nx > 8 else 0)
             ax.set_xlabel(axes[ix]["label"])
             if iy is None:
                 ax.set_yticks([])

@@ -22,6 +22,18 @@ void qemu_loop_check(const char *name, double v, unsigned decimals)
     qemu_m4_puts("\n");
 }
 
+void qemu_loop_line(const char *what, double tb, double v, unsigned decimals, const char *unit)
+{
+    qemu_m4_puts(what);
+    qemu_m4_puts(" at tb ");
+    qemu_m4_put_fixed(tb, 2u);
+    qemu_m4_puts(" s: ");
+    qemu_m4_put_fixed(v, decimals);
+    qemu_m4_puts(" ");
+    qemu_m4_puts(unit);
+    qemu_m4_puts("\n");
+}
+
 int qemu_loop_fail(const char *why)
 {
     qemu_m4_puts("FAIL: ");

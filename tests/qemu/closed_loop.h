@@ -1,10 +1,10 @@
 /*
  * The harness of the closed-loop QEMU images (p001_closed_loop.c,
- * p000_eeo_closed_loop.c): the plant (host_sim/plant) and the real
- * firmware run through host_sim/engine, one sim_engine_step per PWM period;
- * the harness prints the state changes, stops on a latched fault, sorts
- * the instruction count of every ISR (isr_meter.h) by state and prints
- * the common checkpoints at the end.
+ * p000_eeo_closed_loop.c, p002_cdobc_closed_loop.c): the plant
+ * (host_sim/plant) and the real firmware run through host_sim/engine, one
+ * sim_engine_step per PWM period; the harness prints the state changes,
+ * stops on a latched fault, sorts the instruction count of every ISR
+ * (isr_meter.h) by state and prints the common checkpoints at the end.
  *
  * Output (semihosting), parsed by run_qemu_test.py:
  *   CHECK <name> <value>   checkpoints and counts
@@ -37,6 +37,10 @@ void qemu_loop_plant_default(plant_config_t *pc, double t_load_s, double tau_L_N
 
 /* "CHECK <name> <value>" with `decimals` decimals. */
 void qemu_loop_check(const char *name, double v, unsigned decimals);
+
+/* "<what> at tb <tb> s: <v> <unit>" (tb with 2 decimals, v with
+ * `decimals`): the images' periodic progress lines (printed only). */
+void qemu_loop_line(const char *what, double tb, double v, unsigned decimals, const char *unit);
 
 /* Print "FAIL: <why>"; returns 1 (main's status). */
 int qemu_loop_fail(const char *why);

@@ -51,15 +51,6 @@
 
 static qemu_loop_t loop;
 
-static void angle_line(double tb, double err)
-{
-    qemu_m4_puts("angle error at tb ");
-    qemu_m4_put_fixed(tb, 2u);
-    qemu_m4_puts(" s: ");
-    qemu_m4_put_fixed(err, 7u);
-    qemu_m4_puts(" rad\n");
-}
-
 int main(void)
 {
     plant_config_t pc;
@@ -121,7 +112,7 @@ int main(void)
             settled_s = tb;
         }
         if (tb >= next_report - 0.5 * Ts) {
-            angle_line(next_report, err);
+            qemu_loop_line("angle error", next_report, err, 7u, "rad");
             next_report += T_REPORT;
         }
         if (s->fw.state == MC_STATE_RUN) {
