@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "mc/config.h"
+#include "mc/encoder_tracker.h"
 
 /* the block models one period of delay beyond the hold (mc/ctl_cdobc.h) */
 #define CDOBC_DELAY_MAX_PERIODS 1.75f
@@ -30,6 +31,7 @@ const mc_param_t mc_ctl_cdobc_params[] = {
     MC_PARAM(mc_ctl_cdobc_config_t, pid_ki_V, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, pid_kd_V_s2, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, pid_feedforward, MC_PARAM_BOOL),
+    MC_PARAM(mc_ctl_cdobc_config_t, count_periods, MC_PARAM_U32),
     MC_PARAM_END,
 };
 
@@ -60,6 +62,7 @@ void mc_ctl_cdobc_config_default(mc_ctl_cdobc_config_t *c)
         .pid_ki_V = 10.0f,
         .pid_kd_V_s2 = 0.0167f,
         .pid_feedforward = false,
+        .count_periods = 4u,
     };
 }
 
@@ -75,7 +78,6 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
                               const mc_timing_t *tm,
                               const mc_estimator_info_t *est)
 {
-    (void)est; /* any speed estimate */
     const mc_ctl_cdobc_config_t *c = &cfg->cdobc;
     const mc_motor_params_t *m = &cfg->motor;
     if (!(tm->delay_periods <= CDOBC_DELAY_MAX_PERIODS) ||
@@ -131,6 +133,20 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
     ctl->p = p;
     ctl->use_pid = c->pid;
     ctl->redesign_tol = c->redesign_rel_tol;
+    /* observer speed from the count when an encoder gives the angle, else
+     * any speed estimate (mc/ctl_cdobc.h) */
+    if (c->count_periods > MC_CTL_CDOBC_COUNT_MAX) {
+        return MC_ERR_PARAM;
+    }
+    const uint32_t cpr = est->encoder_cpr;
+    const bool counts = c->count_periods != 0u && !est->sensorless &&
+                        cpr >= 4u && cpr <= MC_ENCODER_CPR_MAX;
+    ctl->cpr = counts ? cpr : 0u;
+    ctl->n_count = counts ? c->count_periods : 0u;
+    ctl->count_rad_s =
+        counts ? 6.2831853f / ((float)cpr * (float)c->count_periods * tm->Ts_s)
+               : 0.0f;
+    ctl->count_valid = 0u;
     mc_ctl_cdobc_start(ctl);
     return MC_OK;
 }

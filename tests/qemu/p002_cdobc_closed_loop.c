@@ -9,10 +9,11 @@
  * it extends, without the current-sensor errors): paper 002 motor (n_p 4,
  * R 9.7 ohm, L 26 mH, psi 0.084 Wb, J 1.35e-4 kg m^2, B 7.4e-5 N m s/rad),
  * cogging 0.02 N m cos(32 theta_m), 300 V, 10 kHz, dead time 3 us with the
- * 0.29 A current band, not compensated, 2500-line encoder with its PLL at
- * 3000 rad/s, ideal current sensors, plant with PLANT_SUBSTEPS_FAST; CDOBC
- * (the controller's defaults: 6th electrical + 32nd mechanical harmonic
- * models, polynomial N = 2, designed at init for 500 rpm) with the
+ * 0.29 A current band, not compensated, 2500-line encoder (PLL at the
+ * default 1000 rad/s), ideal current sensors, plant with
+ * PLANT_SUBSTEPS_FAST; CDOBC (the controller's defaults: 6th electrical +
+ * 32nd mechanical harmonic models, polynomial N = 2, the observer's speed
+ * from the count over 4 periods, designed at init for 500 rpm) with the
  * observer poles at -1000 rad/s; no load. Speed reference 0 until
  * T_RUN = 25.6 ms (the end of the offset calibration, the scenario's
  * time_offset_s; checked against the first RUN sample), then 500 rpm; end
@@ -106,7 +107,6 @@ static void firmware_paper002(const plant_config_t *pc, mc_config_t *fc)
     sim_engine_firmware_from_plant(pc, fc);
     fc->controller = MC_CONTROLLER_CDOBC;
     fc->estimator = MC_ESTIMATOR_ENCODER;
-    fc->encoder.pll_bandwidth_rad_s = 3000.0f;
     fc->cdobc.obs_pole_rad_s = 1000.0f;
     fc->foc_pi.speed_bandwidth_rad_s = 200.0f;
     fc->deadtime.compensation = false;

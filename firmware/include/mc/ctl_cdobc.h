@@ -23,11 +23,29 @@
  * coupling term of that step removed). The supervisor, the trips and the
  * limit loop's fault act unchanged.
  *
- * Speed: t->omega_m_rad_s (the estimator's, e.g. the encoder PLL); the
- * observer is driven by -omega (mc/cdobc.h). Speed reference: the shared
- * setpoint stage (mc/outer_loop.h) on its slow tick, so position mode
- * works through its P loop; current mode runs the d/q current loop
- * (bumpless both ways: the regulator restarts at the measured speed).
+ * Speed: the observer is driven by -omega (mc/cdobc.h), and its design
+ * takes omega for the rotor's speed at the sample. With an encoder
+ * (count_periods N > 0, default 4) the law gets the count difference over
+ * the last N periods, 2 pi dc / (cpr N Ts): the mean speed over them, N / 2
+ * periods late, quantised to 2 pi / (cpr N Ts) (1.6 rad/s with 10000
+ * counts, 10 kHz, N = 4), with no other filter. Not the encoder PLL's
+ * estimate: that is omega low-passed by w_pll^2 / (s + w_pll)^2 (lag 2 /
+ * w_pll, 20 periods at 1000 rad/s and 10 kHz; measured -96 degrees and gain
+ * 0.39 at 200 Hz), which the observer does not model. In the unit tests'
+ * plant (no dead time) the loop tolerates a pure delay of the speed of 4
+ * periods with observer poles at -1000 (6 at -520) and is unstable with the
+ * PLL's estimate at 1000 or 3000 rad/s; on the host bench only the dead
+ * time's linear band (31 ohm at no load) kept it stable, and under load it
+ * limit-cycled (host_sim/scenarios/README.md, "Paper 002 bench"). N = 1 is
+ * the least late but its quantisation (one count per period) drives v_q to
+ * the limit with poles at -1000. The first N steps after a (re)start take
+ * t->omega_m_rad_s (a count of one period at standstill would be a 60 rpm
+ * step). Without an encoder (sensorless estimators) or with N = 0:
+ * t->omega_m_rad_s. The PID baseline, the outer loop and the limits keep
+ * t->omega_m_rad_s. Speed reference: the shared setpoint stage
+ * (mc/outer_loop.h) on its slow tick, so position mode works through its P
+ * loop; current mode runs the d/q current loop (bumpless both ways: the
+ * regulator restarts at the measured speed).
  *
  * Delay: the block models exactly one period between the computation and
  * the start of the hold (voltage computed at t_k held over (t_k + Ts,
@@ -67,6 +85,8 @@
 #include "mc/params.h"
 #include "mc/timing.h"
 
+#define MC_CTL_CDOBC_COUNT_MAX 8u /* periods of the count speed */
+
 typedef struct {
     uint32_t poly_order;      /* N of the polynomial model, 0 .. 3 (2) */
     bool dead_time_model;     /* 6th electrical harmonic (true) */
@@ -91,6 +111,9 @@ typedef struct {
     float pid_ki_V;           /* V per rad (10) */
     float pid_kd_V_s2;        /* V s^2 / rad (0.0167) */
     bool pid_feedforward;     /* add the (6) back-EMF term (false) */
+    uint32_t count_periods;   /* observer speed from the encoder count
+                                 over this many periods, 1 .. 8 (4);
+                                 0: the estimator's speed */
 } mc_ctl_cdobc_config_t;
 
 typedef struct {
@@ -99,10 +122,16 @@ typedef struct {
     mc_cdobc_pid_f32_t pid; /* baseline */
     mc_cdobc_params_t p;    /* for the redesign */
     bool use_pid;
-    bool restart;       /* reset at the next step */
-    float redesign_tol; /* 0: fixed design */
-    float u_c_prev_V;   /* (6) coupling term of the last step */
-    float v_dc_prev_V;  /* bus of the last step */
+    bool restart;         /* reset at the next step */
+    float redesign_tol;   /* 0: fixed design */
+    float u_c_prev_V;     /* (6) coupling term of the last step */
+    float v_dc_prev_V;    /* bus of the last step */
+    uint32_t cpr;         /* counts per turn of the count speed, 0: none */
+    uint32_t n_count;     /* periods of the count speed */
+    float count_rad_s;    /* 2 pi / (cpr n_count Ts): one count */
+    uint32_t count_valid; /* counts in the history since the start */
+    uint32_t count_hist[MC_CTL_CDOBC_COUNT_MAX]; /* last counts, newest
+                                                    at [0] */
 } mc_ctl_cdobc_t;
 
 MC_CONTROLLER_INTERFACE(cdobc);
@@ -126,6 +155,40 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
     t->i_q_ref_A = 0.0f;
     const float w = t->omega_m_rad_s;
     const float w_ref = o->omega_m_ref_rad_s;
+    /* the observer's speed: the count difference over the last n_count
+     * periods (the estimator's until there are n_count) */
+    float w_obs = w;
+    if (ctl->cpr != 0u) {
+        const uint32_t n = ctl->n_count;
+        if (ctl->restart) {
+            ctl->count_valid = 0u;
+        }
+        const uint32_t m = ctl->count_valid;
+        if (m == n) {
+            /* each period's step wrapped to [-cpr/2, cpr/2): |dc| < 2^26 */
+            const int32_t cpr = (int32_t)ctl->cpr;
+            int32_t dc = 0;
+            uint32_t c = t->encoder_count;
+            for (uint32_t i = 0; i < m; ++i) {
+                int32_t s = (int32_t)c - (int32_t)ctl->count_hist[i];
+                if (s >= cpr / 2) {
+                    s -= cpr;
+                } else if (s < -(cpr / 2)) {
+                    s += cpr;
+                }
+                dc += s;
+                c = ctl->count_hist[i];
+            }
+            w_obs = (float)dc * ctl->count_rad_s;
+        }
+        for (uint32_t i = n - 1u; i > 0u; --i) {
+            ctl->count_hist[i] = ctl->count_hist[i - 1u];
+        }
+        ctl->count_hist[0] = t->encoder_count;
+        if (m < n) {
+            ctl->count_valid = m + 1u;
+        }
+    }
     if (ctl->restart) {
         if (mc_cdobc_reset_f32(&ctl->law, w) != MC_OK ||
             mc_cdobc_pid_reset_f32(&ctl->pid, w) != MC_OK) {
@@ -158,7 +221,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
         out.d_limited = false;
         ctl->u_c_prev_V = 0.0f;
     } else {
-        if (mc_cdobc_step_f32(&ctl->law, w, w_ref, t->i_d_A, &out) != MC_OK) {
+        if (mc_cdobc_step_f32(&ctl->law, w_obs, w_ref, t->i_d_A, &out) !=
+            MC_OK) {
             return MC_FAULT_NONFINITE;
         }
         ctl->u_c_prev_V = out.v_q_V - ctl->law.v_cur;

@@ -670,6 +670,7 @@ static const field_case_t field_cases[] = {
     { "cdobc.pid_ki_V", CTX_CDOBC, 20 },
     { "cdobc.pid_kd_V_s2", CTX_CDOBC, 0.002 },
     { "cdobc.pid_feedforward", CTX_CDOBC, 1 },
+    { "cdobc.count_periods", CTX_CDOBC, 2 },
     { "encoder.offset_e_rad", CTX_ENCODER, 0.5 },
     { "encoder.pll_bandwidth_rad_s", CTX_ENCODER, 800.0 },
     { "flux_ii.a1", CTX_FLUX_II, 25.0 },
