@@ -122,9 +122,7 @@ void mc_ctl_eeo_mode_change(mc_ctl_eeo_t *ctl, mc_drive_t *d, mc_mode_t from,
 {
     if (to == MC_MODE_CURRENT) {
         /* the current loop takes over from the regulator's last voltage */
-        mc_current_loop_preset_f32(&d->current, d->v_d_last_V, d->v_q_last_V,
-                                   t->i_d_A, t->i_q_A,
-                                   d->n_p * t->omega_m_rad_s);
+        mc_drive_current_loop_takeover(d, t);
     } else if (from == MC_MODE_CURRENT) {
         /* the regulator restarts matched on the error of its next step;
          * a speed reference starts where the rotor is */

@@ -119,9 +119,7 @@ void mc_ctl_idapbc_mode_change(mc_ctl_idapbc_t *ctl, mc_drive_t *d,
         /* The current loop takes over from (11), its integrators stale
          * (ALIGN or an earlier current mode): restart them at (11)'s last
          * voltage, bumpless. */
-        mc_current_loop_preset_f32(&d->current, d->v_d_last_V, d->v_q_last_V,
-                                   t->i_d_A, t->i_q_A,
-                                   d->n_p * t->omega_m_rad_s);
+        mc_drive_current_loop_takeover(d, t);
     } else if (from == MC_MODE_CURRENT) {
         /* (11) takes over: its integral action starts at 0; kept between
          * speed and position ((11) runs in both) */

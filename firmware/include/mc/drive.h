@@ -71,6 +71,16 @@ MC_STATIC_FORCEINLINE uint32_t mc_drive_current_step(mc_drive_t *d,
     return MC_FAULT_NONE;
 }
 
+/* Hands the current loop over from a controller that commands the voltage
+ * itself: its integrators restart at the drive's last voltage at t's
+ * currents and speed, bumpless. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void
+mc_drive_current_loop_takeover(mc_drive_t *d, const mc_telemetry_t *t)
+{
+    mc_current_loop_preset_f32(&d->current, d->v_d_last_V, d->v_q_last_V,
+                               t->i_d_A, t->i_q_A, d->n_p * t->omega_m_rad_s);
+}
+
 /* Declares the interface above for controller `name`, after its
  * mc_ctl_<name>_config_t and mc_ctl_<name>_t: the parameter table and every
  * function but the step, which the glue header defines
