@@ -26,8 +26,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "sim/scenario.h"
-#include "sim_engine.h"
+#include "shipped_scenario.h"
 
 #define SQRT_3_2 1.2247448713915890 /* drive voltage -> paper voltage */
 
@@ -43,18 +42,8 @@ typedef struct {
 
 static eeo_result_t run_file(const char *file, const char *const *set, size_t n_set)
 {
-    char path[1024];
-    (void)snprintf(path, sizeof path, "%s/%s", SCENARIOS_DIR, file);
     static scenario_t scn;
-    scn_error_t err;
-    if (!scenario_load(path, set, n_set, &scn, &err)) {
-        char line[2048];
-        scenario_error_format(&err, line, sizeof line);
-        fail_msg("%s", line);
-    }
-    sim_engine_t *e = malloc(sizeof *e);
-    assert_non_null(e);
-    assert_int_equal(sim_engine_init(e, &scn.plant, &scn.firmware), SIM_ENGINE_OK);
+    sim_engine_t *e = shipped_scenario_engine(file, set, n_set, &scn);
     const double T0 = scn.time_offset_s;
     const double t_end = scn.duration_s - T0;
     eeo_result_t r = { 0 };

@@ -29,9 +29,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "shipped_scenario.h"
 #include "sim/metrics.h"
-#include "sim/scenario.h"
-#include "sim_engine.h"
 
 #define RPM_PER_RAD_S (60.0 / (2.0 * 3.14159265358979323846))
 #define TWO_PI        (2.0 * 3.14159265358979323846)
@@ -80,21 +79,8 @@ static double line_amplitude(size_t i0, size_t i1, double f_Hz)
 
 static p002_result_t run_file(const char *file)
 {
-    char path[1024];
-    (void)snprintf(path, sizeof path, "%s/%s", SCENARIOS_DIR, file);
     static scenario_t scn;
-    scn_error_t err;
-    if (!scenario_load(path, NULL, 0, &scn, &err)) {
-        char line[2048];
-        scenario_error_format(&err, line, sizeof line);
-        fail_msg("%s", line);
-    }
-    sim_engine_t *e = malloc(sizeof *e);
-    assert_non_null(e);
-    assert_int_equal(sim_engine_init(e, &scn.plant, &scn.firmware), SIM_ENGINE_OK);
-    for (size_t i = 0; i < scn.n_injections; ++i) {
-        assert_int_equal(sim_engine_add_injection(e, &scn.injections[i]), SIM_ENGINE_OK);
-    }
+    sim_engine_t *e = shipped_scenario_engine(file, NULL, 0, &scn);
     assert_true(scn.reference.mode == MC_MODE_SPEED);
     p002_result_t r = { 0 };
     size_t n = 0;
