@@ -18,6 +18,7 @@ const mc_param_t mc_ctl_cdobc_params[] = {
     MC_PARAM(mc_ctl_cdobc_config_t, sensor_gain_model, MC_PARAM_BOOL),
     MC_PARAM(mc_ctl_cdobc_config_t, robust_placement, MC_PARAM_BOOL),
     MC_PARAM(mc_ctl_cdobc_config_t, harm_zeta, MC_PARAM_F32),
+    MC_PARAM(mc_ctl_cdobc_config_t, sensor_zeta, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, ctl_pole_rad_s, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, obs_pole_rad_s, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, kp_d_V_A, MC_PARAM_F32),
@@ -49,6 +50,7 @@ void mc_ctl_cdobc_config_default(mc_ctl_cdobc_config_t *c)
         .sensor_gain_model = false,
         .robust_placement = true,
         .harm_zeta = 0.1f,
+        .sensor_zeta = 0.5f,
         .ctl_pole_rad_s = 200.0f,
         .obs_pole_rad_s = 520.0f,
         .kp_d_V_A = 120.0f,
@@ -67,10 +69,9 @@ void mc_ctl_cdobc_config_default(mc_ctl_cdobc_config_t *c)
 }
 
 static void add_harmonic(mc_cdobc_models_t *m, mc_cdobc_axis_t axis,
-                         uint32_t order)
+                         uint32_t order, float zeta)
 {
-    m->harm[m->n_harm].axis = axis;
-    m->harm[m->n_harm].order = order;
+    m->harm[m->n_harm] = (mc_cdobc_harm_t){ axis, order, zeta };
     m->n_harm++;
 }
 
@@ -81,7 +82,8 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
     const mc_ctl_cdobc_config_t *c = &cfg->cdobc;
     const mc_motor_params_t *m = &cfg->motor;
     if (!(tm->delay_periods <= CDOBC_DELAY_MAX_PERIODS) ||
-        !(c->redesign_rel_tol >= 0.0f) || !(c->design_speed_rad_s >= 0.0f)) {
+        !(c->redesign_rel_tol >= 0.0f) || !(c->design_speed_rad_s >= 0.0f) ||
+        !(c->sensor_zeta > 0.0f) || !(c->sensor_zeta < 1.0f)) {
         return MC_ERR_PARAM;
     }
     mc_cdobc_params_t p;
@@ -95,16 +97,16 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
     p.B_Nms_rad = m->B_Nm_s_rad;
     p.models = (mc_cdobc_models_t){ .poly_order = c->poly_order };
     if (c->dead_time_model) {
-        add_harmonic(&p.models, MC_CDOBC_ELEC, 6u);
+        add_harmonic(&p.models, MC_CDOBC_ELEC, 6u, 0.0f);
     }
     if (c->cogging_order != 0u) {
-        add_harmonic(&p.models, MC_CDOBC_MECH, c->cogging_order);
+        add_harmonic(&p.models, MC_CDOBC_MECH, c->cogging_order, 0.0f);
     }
     if (c->sensor_offset_model) {
-        add_harmonic(&p.models, MC_CDOBC_ELEC, 1u);
+        add_harmonic(&p.models, MC_CDOBC_ELEC, 1u, c->sensor_zeta);
     }
     if (c->sensor_gain_model) {
-        add_harmonic(&p.models, MC_CDOBC_ELEC, 2u);
+        add_harmonic(&p.models, MC_CDOBC_ELEC, 2u, c->sensor_zeta);
     }
     p.placement =
         c->robust_placement ? MC_CDOBC_PLACE_ROBUST : MC_CDOBC_PLACE_LITERAL;

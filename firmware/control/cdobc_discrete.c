@@ -32,8 +32,8 @@ void mc_cdobc_params_paper002(mc_cdobc_params_t *p, float Ts_s,
         .kp_d_V_A = 120.0f,
         .ki_d_V_As = 240.0f,
     };
-    const mc_cdobc_harm_t dead = { MC_CDOBC_ELEC, 6u }; /* dead time */
-    const mc_cdobc_harm_t cog = { MC_CDOBC_MECH, 32u }; /* Q = 32 */
+    const mc_cdobc_harm_t dead = { MC_CDOBC_ELEC, 6u, 0.0f }; /* dead time */
+    const mc_cdobc_harm_t cog = { MC_CDOBC_MECH, 32u, 0.0f }; /* Q = 32 */
     if (kind != MC_CDOBC_KIND_GPIOBC) {
         p->models.n_harm = 2u;
         p->models.harm[0] = dead;
@@ -86,8 +86,10 @@ static void observer_poles(const mc_cdobc_params_t *p, const double *w,
         im[i] = 0.0;
     }
     if (p->placement == MC_CDOBC_PLACE_ROBUST) {
-        const double z = (double)p->harm_zeta; /* (0, 1) checked */
         for (uint32_t i = 0; i < m->n_harm; ++i) {
+            /* (0, 1) checked */
+            const double z = (double)((m->harm[i].zeta > 0.0f) ? m->harm[i].zeta
+                                                               : p->harm_zeta);
             re[2u * i] = -z * w[i];
             re[2u * i + 1u] = -z * w[i];
             im[2u * i] = w[i] * sqrt(1.0 - z * z);

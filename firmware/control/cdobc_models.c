@@ -22,7 +22,8 @@ mc_status_t mc_cdobc_models_check(const mc_cdobc_models_t *m,
     for (uint32_t i = 0; i < m->n_harm; ++i) {
         const mc_cdobc_harm_t *h = &m->harm[i];
         if ((h->axis != MC_CDOBC_ELEC && h->axis != MC_CDOBC_MECH) ||
-            h->order < 1u || h->order > 1000u) {
+            h->order < 1u || h->order > 1000u ||
+            !(h->zeta == 0.0f || (h->zeta > 0.0f && h->zeta < 1.0f))) {
             return MC_ERR_PARAM;
         }
         for (uint32_t j = 0; j < i; ++j) {

@@ -126,6 +126,8 @@ typedef enum {
 typedef struct {
     mc_cdobc_axis_t axis;
     uint32_t order; /* 1 .. 1000 */
+    float zeta;     /* ROBUST: damping of this pair, (0, 1); 0: the
+                       parameters' harm_zeta */
 } mc_cdobc_harm_t;
 
 typedef struct {
@@ -135,8 +137,8 @@ typedef struct {
 } mc_cdobc_models_t;
 
 /* Checks the list: n_harm, poly_order in range, axes known, orders in
- * 1 .. 1000, distinct frequencies (in mechanical multiples, k n_p for
- * electrical), at least one model. MC_ERR_PARAM otherwise.
+ * 1 .. 1000, each zeta 0 or in (0, 1), distinct frequencies (in mechanical
+ * multiples, k n_p for electrical), at least one model. MC_ERR_PARAM otherwise.
  * Interrupt context: no. */
 mc_status_t mc_cdobc_models_check(const mc_cdobc_models_t *m,
                                   uint32_t pole_pairs);

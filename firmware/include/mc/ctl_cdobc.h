@@ -97,6 +97,8 @@ typedef struct {
                                  frequency (true) or all at -obs_pole
                                  (false: the paper's literal design) */
     float harm_zeta;          /* robust: damping of those pairs (0.1) */
+    float sensor_zeta;        /* robust: damping of the 1st and 2nd
+                                 electrical pairs (0.5) */
     float ctl_pole_rad_s;     /* controller poles at -this (200) */
     float obs_pole_rad_s;     /* observer poles at -this (520) */
     float kp_d_V_A;           /* d-axis PI (120) */

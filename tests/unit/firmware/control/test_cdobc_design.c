@@ -42,8 +42,8 @@ static void set_models(mc_cdobc_params_t *p, int case_id)
     mc_cdobc_params_paper002(p, (float)P2_TS, kind);
     if (case_id == 3 || case_id == 4) { /* + current-sensor harmonics */
         p->models.n_harm = 4u;
-        p->models.harm[2] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 1u };
-        p->models.harm[3] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 2u };
+        p->models.harm[2] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 1u, 0.0f };
+        p->models.harm[3] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 2u, 0.0f };
     }
     if (case_id == 4) {
         p->models.poly_order = MC_CDOBC_POLY_MAX;
@@ -315,13 +315,23 @@ static void test_validation(void **state)
     /* 1st electrical = 4th mechanical with n_p = 4: same frequency */
     q = p;
     q.models.n_harm = 3u;
-    q.models.harm[0] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 1u };
-    q.models.harm[2] = (mc_cdobc_harm_t){ MC_CDOBC_MECH, 4u };
+    q.models.harm[0] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 1u, 0.0f };
+    q.models.harm[2] = (mc_cdobc_harm_t){ MC_CDOBC_MECH, 4u, 0.0f };
     assert_int_equal(mc_cdobc_params_check(&q), MC_ERR_PARAM);
     q.models.harm[2].order = 0u;
     assert_int_equal(mc_cdobc_params_check(&q), MC_ERR_PARAM);
     q = p;
     q.models.harm[0].axis = (mc_cdobc_axis_t)5;
+    assert_int_equal(mc_cdobc_params_check(&q), MC_ERR_PARAM);
+    /* a pair's own damping: 0 (the parameters') or in (0, 1) */
+    q = p;
+    q.models.harm[1].zeta = 0.5f;
+    assert_int_equal(mc_cdobc_params_check(&q), MC_OK);
+    q.models.harm[1].zeta = 1.0f;
+    assert_int_equal(mc_cdobc_params_check(&q), MC_ERR_PARAM);
+    q.models.harm[1].zeta = -0.1f;
+    assert_int_equal(mc_cdobc_params_check(&q), MC_ERR_PARAM);
+    q.models.harm[1].zeta = NAN;
     assert_int_equal(mc_cdobc_params_check(&q), MC_ERR_PARAM);
     /* design errors leave *d untouched */
     mc_cdobc_design_t keep = d;

@@ -141,8 +141,8 @@ static void design_set(mc_cdobc_kind_t kind, int extra_sensor_harmonics, mc_cdob
     mc_cdobc_params_paper002(p, (float)P2_TS, kind);
     p->placement = pl;
     if (extra_sensor_harmonics) {
-        p->models.harm[p->models.n_harm++] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 1u };
-        p->models.harm[p->models.n_harm++] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 2u };
+        p->models.harm[p->models.n_harm++] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 1u, 0.0f };
+        p->models.harm[p->models.n_harm++] = (mc_cdobc_harm_t){ MC_CDOBC_ELEC, 2u, 0.0f };
     }
     assert_int_equal(mc_cdobc_design_f64(p, omega_ref, d), MC_OK);
 }

@@ -657,6 +657,7 @@ static const field_case_t field_cases[] = {
     { "cdobc.sensor_gain_model", CTX_CDOBC, 1 },
     { "cdobc.robust_placement", CTX_CDOBC, 0 },
     { "cdobc.harm_zeta", CTX_CDOBC, 0.2 },
+    { "cdobc.sensor_zeta", CTX_CDOBC, 0.3 },
     { "cdobc.ctl_pole_rad_s", CTX_CDOBC, 150 },
     { "cdobc.obs_pole_rad_s", CTX_CDOBC, 600 },
     { "cdobc.kp_d_V_A", CTX_CDOBC, 60 },
