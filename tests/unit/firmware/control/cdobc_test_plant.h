@@ -102,12 +102,14 @@ static inline void p2_zoh(int nf, const double *Af, const double *gf, double Ts,
  * substeps:  J omega' = Kt i_q - B omega - T_d,
  *            L i_q' = v + u_d - R i_q - n_p psi omega,
  * theta_m' = omega, t' = 1. T_d = T_load + T_ramp t + T_cog cos(Q th)
- * + T_h1 cos(n_p th) + T_h2 cos(2 n_p th); u_d = U_6 cos(6 n_p th), with
+ * + T_h1 cos(n_p th) + T_h2 cos(2 n_p th) + T_sin sin(w_sin t); u_d =
+ * U_6 cos(6 n_p th), with
  * th = theta_m (angle-locked, as in the machine) or, if omega_t > 0,
  * th = omega_t t (time-locked at a fixed speed: Remark 3's steady state).
  * J, R, L, psi scaled by fJ, fR, fL, fK (1 = nominal). */
 typedef struct {
     double T_load, T_ramp, T_cog, T_h1, T_h2, U_6;
+    double T_sin, w_sin; /* time-locked sinusoidal load (N m, rad/s) */
     double omega_t;
     double fJ, fR, fL, fK;
 } p2_dist_t;
@@ -121,7 +123,7 @@ static inline void p2_dist_at(const p2_dist_t *d, const double *x, double *Td, d
 {
     const double th = (d->omega_t > 0.0) ? d->omega_t * x[3] : x[2];
     *Td = d->T_load + d->T_ramp * x[3] + d->T_cog * cos(P2_Q * th) + d->T_h1 * cos(P2_NP * th) +
-          d->T_h2 * cos(2.0 * P2_NP * th);
+          d->T_h2 * cos(2.0 * P2_NP * th) + d->T_sin * sin(d->w_sin * x[3]);
     *ud = d->U_6 * cos(6.0 * P2_NP * th);
 }
 
