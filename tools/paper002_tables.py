@@ -87,7 +87,7 @@ def main():
         runs = []
         for path in sorted(glob.glob(os.path.join(out_dir, f"paper002_case{n}_*.json"))):
             name = os.path.basename(path)[:-5]
-            if not re.fullmatch(rf"paper002_case{n}_[A-Za-z0-9]+", name):
+            if not re.fullmatch(rf"paper002_case{n}_[A-Za-z0-9_]+", name):
                 continue
             runs.append((name.split("_", 2)[2], name, json.load(open(path))))
         print()

@@ -49,7 +49,7 @@ void mc_ctl_cdobc_config_default(mc_ctl_cdobc_config_t *c)
         .sensor_offset_model = false,
         .sensor_gain_model = false,
         .robust_placement = true,
-        .harm_zeta = 0.1f,
+        .harm_zeta = 0.03f,
         .sensor_zeta = 0.5f,
         .ctl_pole_rad_s = 200.0f,
         .obs_pole_rad_s = 520.0f,

@@ -99,6 +99,7 @@ static void plant_paper002(plant_config_t *pc)
     pc->inverter.t_dead_s = 3e-6;
     pc->inverter.dead_time_current_band_A = 0.29;
     pc->sensors.encoder.lines = 2500u;
+    pc->theta_m0_rad = 0.1472622; /* a cogging detent, as the scenario */
 }
 
 static void firmware_paper002(const plant_config_t *pc, mc_config_t *fc)
