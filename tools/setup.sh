@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything the project needs on a Debian 12 machine:
-#  - Debian packages (compilers, cmocka, cJSON, QEMU, GNU parallel, ...)
+#  - Debian packages (compilers, cmocka, cJSON, QEMU, GNU parallel, clang
+#    for the libFuzzer harness, can-utils, ...)
 #  - a Python virtual environment in .venv/ with the PyPI packages of tools/
 # Idempotent: prints nothing and changes nothing when all is present.
 set -euo pipefail
@@ -14,6 +15,8 @@ debian_packages=(
   qemu-system-arm
   python3-venv
   parallel
+  clang libclang-rt-14-dev
+  can-utils
 )
 
 missing=()

@@ -228,6 +228,9 @@ void mc_app_fast_isr(mc_app_t *app)
     if (hal_gpio_fault_input_active()) {
         active |= MC_FAULT_EXTERNAL;
     }
+    if (cmd->comm_lost) {
+        active |= MC_FAULT_COMM_TIMEOUT;
+    }
     if (app->overrun_streak >= app->timing.isr_overrun_limit) {
         active |= MC_FAULT_ISR_OVERRUN; /* still overrunning */
     }

@@ -15,8 +15,8 @@
  * Binding: per thread (_Thread_local); one thread may run several engines
  * by rebinding before each step. A HAL call while unbound aborts.
  *
- * CAN has no host binding yet (SocketCAN comes with a later issue):
- * hal_can_* are not defined by this library.
+ * CAN: the mailbox's queues (hal_sim_can.c); a SocketCAN bridge moves
+ * frames between them and a CAN interface.
  */
 #ifndef HAL_HOST_H
 #define HAL_HOST_H

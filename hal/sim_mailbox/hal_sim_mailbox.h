@@ -13,6 +13,9 @@
  *                       its sample-to-apply delay: hal/pwm.h)
  *   firmware -> engine: duties, PWM outputs enable, power-stage enable,
  *                       debug pin
+ *   both ways:          CAN frames (hal_sim_can.c: a bounded queue each
+ *                       way; the engine or a bridge to SocketCAN fills
+ *                       the receive queue and empties the transmit one)
  *
  * hal_sim_mailbox.c implements the PWM, ADC, encoder, GPIO and
  * hal_time_ticks functions on the bound mailbox (monotonic time = the
@@ -27,6 +30,16 @@
 #include <stdint.h>
 
 #include "hal/adc.h"
+#include "hal/can.h"
+
+#define HAL_SIM_CAN_QUEUE_LEN 64u /* frames per direction */
+
+/* A bounded FIFO of CAN frames (single producer, single consumer, both
+ * on the engine's thread). */
+typedef struct {
+    hal_can_frame_t frames[HAL_SIM_CAN_QUEUE_LEN];
+    uint32_t head, count; /* oldest frame, frames queued */
+} hal_sim_can_queue_t;
 
 typedef struct {
     /* engine -> firmware */
@@ -45,6 +58,12 @@ typedef struct {
     bool pwm_outputs_enabled;
     bool power_stage_enabled;
     bool debug_pin;
+    /* CAN (hal_sim_can.c) */
+    bool can_up; /* hal_can_init succeeded */
+    uint32_t can_bitrate_bps;
+    hal_sim_can_queue_t can_rx; /* engine -> firmware */
+    hal_sim_can_queue_t can_tx; /* firmware -> engine */
+    hal_can_stats_t can_stats;  /* rx_overruns: can_rx full */
 } hal_sim_mailbox_t;
 
 /* Bind (or with NULL unbind) the mailbox used by every HAL call.
@@ -58,6 +77,14 @@ hal_sim_mailbox_t *hal_sim_bound(void);
 
 /* Zero a mailbox: duties 0.5, everything disabled, no fault input. */
 void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox);
+
+/* Queue a frame for the firmware (engine side). false, counted in
+ * can_stats.rx_overruns, when the receive queue is full. */
+bool hal_sim_can_deliver(hal_sim_mailbox_t *mailbox,
+                         const hal_can_frame_t *frame);
+
+/* Take the oldest frame the firmware sent (engine side); false if none. */
+bool hal_sim_can_collect(hal_sim_mailbox_t *mailbox, hal_can_frame_t *frame);
 
 /* True when the inverter switches: PWM outputs AND power stage enabled. */
 bool hal_sim_outputs_active(const hal_sim_mailbox_t *mailbox);

@@ -34,6 +34,7 @@ static const struct {
     { MC_FAULT_CURRENT_SENSOR, "current_sensor" },
     { MC_FAULT_LOSS_OF_LOCK, "loss_of_lock" },
     { MC_FAULT_CURRENT_LIMIT, "current_limit" },
+    { MC_FAULT_COMM_TIMEOUT, "comm_timeout" },
 };
 
 #define N_FAULT_NAMES (sizeof(fault_names) / sizeof(fault_names[0]))

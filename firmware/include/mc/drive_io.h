@@ -33,6 +33,8 @@ typedef struct {
     float i_d_ref_A, i_q_ref_A; /* MC_MODE_CURRENT */
     float omega_m_ref_rad_s;    /* MC_MODE_SPEED */
     float theta_m_ref_rad;      /* MC_MODE_POSITION (multi-turn) */
+    bool comm_lost; /* the command link timed out (mc/can_node.h): a cause
+                       of MC_FAULT_COMM_TIMEOUT while true */
 } mc_command_t;
 
 /* Telemetry of the latest fast ISR. 8-byte aligned: the ISR publishes

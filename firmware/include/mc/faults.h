@@ -43,13 +43,17 @@ typedef enum {
     MC_FAULT_LOSS_OF_LOCK = 1u << 13,   /* sensorless: the estimate turns,
                                            the measured back-EMF says the
                                            rotor does not */
-    MC_FAULT_CURRENT_LIMIT = 1u << 14   /* the current-limit loop acted
+    MC_FAULT_CURRENT_LIMIT = 1u << 14,  /* the current-limit loop acted
                                            for current_limit_time_s without
                                            a break */
+    MC_FAULT_COMM_TIMEOUT = 1u << 15    /* no valid command within the
+                                           command link's timeout while
+                                           enabled (mc_command_t.comm_lost;
+                                           reaction: PWM off, coast) */
 } mc_fault_t;
 
 /* Every fault bit (for masks and reports). */
-#define MC_FAULT_ALL ((uint32_t)((MC_FAULT_CURRENT_LIMIT << 1) - 1u))
+#define MC_FAULT_ALL ((uint32_t)((MC_FAULT_COMM_TIMEOUT << 1) - 1u))
 
 /* Protection thresholds (SI units): the configuration block "protection". */
 typedef struct {

@@ -5,7 +5,8 @@
  * a queued frame or HAL_ERR_EMPTY. Neither may be called from the fast
  * (PWM) ISR; they may be called from the thread/background loop or from the
  * CAN interrupt itself.
- * Contract only for now: the host SocketCAN binding comes with a later issue.
+ * Bindings: hal/sim_mailbox (the simulator's queues, host and QEMU image;
+ * hal/host bridges them to SocketCAN), a board port (its CAN peripheral).
  */
 #ifndef HAL_CAN_H
 #define HAL_CAN_H
@@ -37,5 +38,16 @@ hal_status_t hal_can_send(const hal_can_frame_t *frame);
 /* Take the oldest received frame. HAL_ERR_EMPTY: none pending. Never
  * blocks. Interrupt context: no. */
 hal_status_t hal_can_receive(hal_can_frame_t *frame);
+
+/* Counts kept by the binding since hal_can_init (wrapping at 2^32). */
+typedef struct {
+    uint32_t rx_overruns; /* frames lost before hal_can_receive (receive
+                             queue or FIFO full, SocketCAN SO_RXQ_OVFL) */
+    uint32_t bus_errors;  /* bus error events (SocketCAN error frames,
+                             a controller's error interrupt) */
+} hal_can_stats_t;
+
+/* Copy the binding's counts. Interrupt context: no. */
+void hal_can_stats(hal_can_stats_t *stats);
 
 #endif /* HAL_CAN_H */
