@@ -54,3 +54,10 @@ if [[ ! -f "$stamp" ]] || ! cmp -s "$requirements" "$stamp"; then
   "$venv/bin/pip" install --quiet --disable-pip-version-check -r "$requirements"
   cp "$requirements" "$stamp"
 fi
+# The CAN telemetry tool (tools/pmsm_can, console command pmsm-can), from
+# the source tree (editable: it reads tools/dbc/pmsm_drive.dbc in place).
+if [[ ! -x "$venv/bin/pmsm-can" ]]; then
+  echo "setup: installing the pmsm-can tool (tools/pmsm_can)"
+  "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps --no-build-isolation \
+    -e "$repo/tools/pmsm_can"
+fi

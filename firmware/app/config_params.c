@@ -6,6 +6,18 @@
 
 #define OFFSET(member) ((uint32_t)offsetof(mc_config_t, member))
 
+size_t mc_param_size(mc_param_type_t type)
+{
+    switch (type) {
+    case MC_PARAM_F32: return sizeof(float);
+    case MC_PARAM_U32: return sizeof(uint32_t);
+    case MC_PARAM_BOOL: return sizeof(bool);
+    case MC_PARAM_CONTROLLER: return sizeof(mc_controller_t);
+    case MC_PARAM_ESTIMATOR: return sizeof(mc_estimator_t);
+    }
+    return 0u;
+}
+
 static const mc_param_t top_params[] = {
     { "controller", MC_PARAM_CONTROLLER, OFFSET(controller) },
     { "estimator", MC_PARAM_ESTIMATOR, OFFSET(estimator) },

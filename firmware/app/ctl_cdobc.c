@@ -119,7 +119,10 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
     p.ki_d_V_As = c->ki_d_V_As;
     mc_status_t st = mc_cdobc_init_f32(&ctl->law, &p, c->design_speed_rad_s);
     if (st != MC_OK) {
-        return st;
+        /* a model frequency at or above a quarter of the sampling rate
+         * (MC_ERR_RANGE) is a configuration the drive cannot run: the
+         * configuration's contract says MC_ERR_PARAM (mc/config.h) */
+        return (st == MC_ERR_RANGE) ? MC_ERR_PARAM : st;
     }
     /* (6) with i_d = 0 (mc/cdobc.h) */
     const float np = (float)m->pole_pairs;

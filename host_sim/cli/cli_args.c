@@ -1,6 +1,11 @@
 /* Command line of pmsm-sim. */
 #include "cli_args.h"
 
+#include "mc/can_node.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 void cli_print_help(FILE *f)
@@ -8,6 +13,7 @@ void cli_print_help(FILE *f)
     fputs(
         "usage: pmsm-sim run SCENARIO.json [--set KEY.PATH=VALUE ...] [--csv FILE]\n"
         "                    [--json FILE] [--plot FILE.png] [--quiet] [--dry-run]\n"
+        "                    [--can IFNAME [--can-node N] [--can-timeout S]] [--realtime]\n"
         "       pmsm-sim bench SCENARIO.json [--set KEY.PATH=VALUE ...] [--quiet]\n"
         "       pmsm-sim keys\n"
         "       pmsm-sim --help\n"
@@ -33,11 +39,26 @@ void cli_print_help(FILE *f)
         "  --json FILE           write the metrics as JSON\n"
         "  --plot FILE.png       plot the trace with tools/plot_trace.py (project .venv;\n"
         "                        PMSM_SIM_PYTHON / PMSM_SIM_PLOT_SCRIPT override the paths)\n"
-        "  --quiet               no table, no progress (errors and the estimate of a long\n"
-        "                        run are still reported)\n"
-        "  --dry-run             check the scenario, the outputs and the plotting environment,\n"
-        "                        print the run's estimate (simulated and wall time, CSV size)\n"
-        "                        on stdout, and stop: only the pilot runs, nothing is written\n"
+        "  --quiet               no table, no progress (errors, warnings and the estimate of a\n"
+        "                        long run are still reported)\n"
+        "  --dry-run             check the scenario, the outputs, the plotting environment and\n"
+        "                        the --can interface, print the run's estimate (simulated and\n"
+        "                        wall time, CSV size) on stdout, and stop: only the pilot runs,\n"
+        "                        nothing is written\n"
+        "  --can IFNAME          give the drive its CAN node (protocol tools/dbc/pmsm_drive.dbc)\n"
+        "                        on the SocketCAN interface IFNAME (vcan0, can0; Linux): the\n"
+        "                        drive's commands then come over CAN, NOT from the scenario's\n"
+        "                        reference; it starts disabled and waits for Cmd_Enable. The\n"
+        "                        run lasts duration_s, the fault injections still act; the\n"
+        "                        metrics against the reference are not computed (the table\n"
+        "                        and JSON keep the phases, ISR cost, faults and CAN counts)\n"
+        "  --can-node N          its node id, 0..63: identifiers N*32 + message (default 0)\n"
+        "  --can-timeout S       its command timeout while enabled, in (0, 60] s (default 0.1)\n"
+        "  --realtime            pace the run to wall time (CLOCK_MONOTONIC, a sleep per batch\n"
+        "                        of PWM periods of 1 ms); the summary and JSON count the missed\n"
+        "                        periods (reached over one period after their due time).\n"
+        "                        Without it a --can run goes as fast as the machine can, so a\n"
+        "                        host on the bus sees the drive's time run faster than its own\n"
         "\n"
         "Before a run the outputs are checked (directory exists and is writable, not the\n"
         "scenario file, no two the same) and, with --plot, the plotting environment; each\n"
@@ -48,7 +69,11 @@ void cli_print_help(FILE *f)
         "wall time and trace size on stderr first.\n"
         "\n"
         "scenario format: host_sim/scenarios/README.md\n"
-        "exit status: 0 ok, 1 simulation or output failed, 2 bad command line,\n"
+        "CAN: this needs a kernel with SocketCAN (vcan: ip link add dev vcan0 type vcan &&\n"
+        "ip link set up vcan0); see the CAN section of host_sim/scenarios/README.md.\n"
+        "\n"
+        "exit status: 0 ok, 1 simulation or output failed, 2 bad command line or the --can\n"
+        "               interface cannot be opened (no CAN in the kernel, no such interface),\n"
         "             3 scenario unreadable or invalid (the message names file and key),\n"
         "             4 an output cannot be written or the plotting environment is missing\n"
         "               (found before the run); a run stopped by SIGINT, SIGTERM or SIGHUP\n"
@@ -78,6 +103,10 @@ static bool parse_option(int argc, char **argv, int *i, cli_args_t *out, char *m
         out->dry_run = true;
         return true;
     }
+    if (out->command == CLI_RUN && strcmp(opt, "--realtime") == 0) {
+        out->realtime = true;
+        return true;
+    }
     const char **slot = NULL;
     if (strcmp(opt, "--set") == 0) {
         if (out->n_overrides == CLI_MAX_OVERRIDES) {
@@ -91,6 +120,17 @@ static bool parse_option(int argc, char **argv, int *i, cli_args_t *out, char *m
         slot = &out->json;
     } else if (out->command == CLI_RUN && strcmp(opt, "--plot") == 0) {
         slot = &out->plot;
+    } else if (out->command == CLI_RUN && strcmp(opt, "--can") == 0) {
+        slot = &out->can_ifname;
+    } else if (out->command == CLI_RUN && strcmp(opt, "--can-node") == 0) {
+        slot = &out->can_node_text;
+    } else if (out->command == CLI_RUN && strcmp(opt, "--can-timeout") == 0) {
+        slot = &out->can_timeout_text;
+    } else if (out->command == CLI_BENCH &&
+               (strcmp(opt, "--can") == 0 || strcmp(opt, "--can-node") == 0 ||
+                strcmp(opt, "--can-timeout") == 0 || strcmp(opt, "--realtime") == 0)) {
+        snprintf(msg, msg_size, "%s is an option of run, not of bench", opt);
+        return false;
     } else {
         snprintf(msg, msg_size, "unknown option %s", opt);
         return false;
@@ -101,6 +141,50 @@ static bool parse_option(int argc, char **argv, int *i, cli_args_t *out, char *m
     }
     *slot = option_value(argc, argv, i, msg, msg_size);
     return *slot != NULL;
+}
+
+/* --can-node and --can-timeout: their values, and --can with them. */
+static bool parse_can(cli_args_t *out, char *msg, size_t msg_size)
+{
+    out->can_node_id = 0;
+    out->can_timeout_s = CLI_CAN_TIMEOUT_DEFAULT_S;
+    if (out->can_ifname == NULL) {
+        const char *alone = out->can_node_text != NULL      ? "--can-node"
+                            : out->can_timeout_text != NULL ? "--can-timeout"
+                                                            : NULL;
+        if (alone != NULL) {
+            snprintf(msg, msg_size, "%s needs --can IFNAME", alone);
+            return false;
+        }
+        return true;
+    }
+    if (out->can_ifname[0] == '\0') {
+        snprintf(msg, msg_size, "--can needs an interface name (vcan0, can0)");
+        return false;
+    }
+    char *end;
+    if (out->can_node_text != NULL) {
+        errno = 0;
+        const unsigned long n = strtoul(out->can_node_text, &end, 10);
+        if (errno != 0 || end == out->can_node_text || *end != '\0' ||
+            out->can_node_text[0] == '-' || n > MC_CAN_NODE_ID_MAX) {
+            snprintf(msg, msg_size, "--can-node '%.40s' is not a node id 0..%u", out->can_node_text,
+                     (unsigned)MC_CAN_NODE_ID_MAX);
+            return false;
+        }
+        out->can_node_id = (uint32_t)n;
+    }
+    if (out->can_timeout_text != NULL) {
+        const double t = strtod(out->can_timeout_text, &end);
+        if (end == out->can_timeout_text || *end != '\0' || !isfinite(t) || !(t > 0.0) ||
+            t > CLI_CAN_TIMEOUT_MAX_S) {
+            snprintf(msg, msg_size, "--can-timeout '%.40s' is not a time in (0, %g] s",
+                     out->can_timeout_text, CLI_CAN_TIMEOUT_MAX_S);
+            return false;
+        }
+        out->can_timeout_s = t;
+    }
+    return true;
 }
 
 bool cli_parse(int argc, char **argv, cli_args_t *out, char *msg, size_t msg_size)
@@ -150,5 +234,5 @@ bool cli_parse(int argc, char **argv, cli_args_t *out, char *msg, size_t msg_siz
         snprintf(msg, msg_size, "missing SCENARIO file");
         return false;
     }
-    return true;
+    return parse_can(out, msg, msg_size);
 }

@@ -2,6 +2,7 @@
  * trace, JSON metrics and a plot; or benchmark the closed loop. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,7 @@
 #include "run.h"
 #include "run_estimate.h"
 #include "sim/text_escape.h"
+#include "socketcan.h"
 
 #define MSG_MAX 2048
 
@@ -78,8 +80,20 @@ static int write_outputs(const cli_args_t *args, const outputs_t *out, const sce
     return CLI_EXIT_OK;
 }
 
+/* The CAN node of --can: the firmware's default with the node id and the
+ * command timeout of the command line. */
+static mc_can_node_config_t can_config(const cli_args_t *args)
+{
+    mc_can_node_config_t cfg;
+    mc_can_node_config_default(&cfg);
+    cfg.node_id = args->can_node_id;
+    cfg.timeout_s = (float)args->can_timeout_s;
+    return cfg;
+}
+
 /* The run and its outputs into the staged files. */
-static int run_into(const cli_args_t *args, const outputs_t *out, const scenario_t *s, char *msg)
+static int run_into(const cli_args_t *args, const outputs_t *out, const scenario_t *s,
+                    hal_socketcan_t *can, char *msg)
 {
     const char *csv_path = outputs_path(out, OUTPUT_CSV);
     FILE *csv = NULL;
@@ -87,9 +101,15 @@ static int run_into(const cli_args_t *args, const outputs_t *out, const scenario
         snprintf(msg, MSG_MAX, "cannot open the CSV trace file %.1000s", csv_path);
         return CLI_EXIT_RUN_FAILED;
     }
-    const run_options_t opt = {
-        .csv = csv, .keep_series = true, .progress = !args->quiet, .stop = &stop_signal
-    };
+    run_options_t opt = { .csv = csv,
+                          .keep_series = can == NULL,
+                          .progress = !args->quiet,
+                          .stop = &stop_signal,
+                          .realtime = args->realtime,
+                          .can = can };
+    if (can != NULL) {
+        opt.can_cfg = can_config(args);
+    }
     run_result_t res;
     int code = run_scenario(s, &opt, &res, msg, MSG_MAX) ? CLI_EXIT_OK : CLI_EXIT_RUN_FAILED;
     if (csv != NULL && (ferror(csv) || fclose(csv) != 0) && code == CLI_EXIT_OK) {
@@ -104,10 +124,44 @@ static int run_into(const cli_args_t *args, const outputs_t *out, const scenario
     return code;
 }
 
+/* What --can and --realtime mean for this run, on stderr before it: the
+ * command source (unless --quiet), and the warnings: --can running faster
+ * than real time, --realtime on a machine too slow for it. */
+static void state_run_mode(const cli_args_t *args, const run_estimate_t *est)
+{
+    const double load = run_estimate_load(est);
+    if (args->can_ifname != NULL && !args->quiet) {
+        const unsigned first = (unsigned)args->can_node_id << 5;
+        char ifname[4 * HAL_SOCKETCAN_IFNAME_MAX];
+        text_escape(args->can_ifname, ifname, sizeof(ifname));
+        fprintf(stderr,
+                "pmsm-sim: CAN node %u on %s (identifiers 0x%03X-0x%03X), command timeout %g s: "
+                "the drive's commands come over CAN, not from the scenario's reference; it "
+                "starts disabled\n",
+                (unsigned)args->can_node_id, ifname, first, first + 31u, args->can_timeout_s);
+    }
+    if (args->can_ifname != NULL && !args->realtime) {
+        fprintf(stderr, "pmsm-sim: warning: --can without --realtime: the run goes as fast as "
+                        "this machine can");
+        if (isfinite(load) && load > 0.0) {
+            fprintf(stderr, " (about %.3g x real time)", 1.0 / load);
+        }
+        fprintf(stderr, ", so a host on the bus sees the drive's time run faster than its own "
+                        "(command timeout, telemetry rates); add --realtime to pace it\n");
+    }
+    if (args->realtime && isfinite(load) && load > 1.0) {
+        fprintf(stderr,
+                "pmsm-sim: warning: --realtime: this machine needs about %.3g us per PWM period "
+                "of %.3g us, so the run cannot keep up and will miss periods\n",
+                est->wall_per_period_s * 1e6, 1e6 / est->f_pwm_Hz);
+    }
+}
+
 /* Outputs checked and staged, the plotting environment checked, the cost
  * stated (all before the run); the staged files moved onto their targets
  * only when everything succeeded. */
-static int command_run(const cli_args_t *args, const scenario_t *s, char *msg)
+static int command_run_on(const cli_args_t *args, const scenario_t *s, hal_socketcan_t *can,
+                          char *msg)
 {
     outputs_t out;
     if (!outputs_prepare(&out, args, msg, MSG_MAX)) {
@@ -118,9 +172,13 @@ static int command_run(const cli_args_t *args, const scenario_t *s, char *msg)
         return CLI_EXIT_OUTPUT;
     }
     run_estimate_t est;
-    if (!run_estimate(s, outputs_path(&out, OUTPUT_CSV)[0] != '\0', true, &est, msg, MSG_MAX)) {
+    if (!run_estimate(s, outputs_path(&out, OUTPUT_CSV)[0] != '\0', can == NULL, &est, msg,
+                      MSG_MAX)) {
         outputs_discard(&out);
         return CLI_EXIT_RUN_FAILED;
+    }
+    if (args->realtime) {
+        run_estimate_realtime(&est);
     }
     if (args->dry_run) {
         run_estimate_print(stdout, &est);
@@ -130,14 +188,33 @@ static int command_run(const cli_args_t *args, const scenario_t *s, char *msg)
     if (run_estimate_is_long(&est)) {
         run_estimate_print(stderr, &est);
     }
+    state_run_mode(args, &est);
     catch_stop_signals();
-    int code = run_into(args, &out, s, msg);
+    int code = run_into(args, &out, s, can, msg);
     if (code == CLI_EXIT_OK && !outputs_commit(&out, msg, MSG_MAX)) {
         code = CLI_EXIT_RUN_FAILED;
     }
     if (code != CLI_EXIT_OK) {
         outputs_discard(&out);
     }
+    return code;
+}
+
+/* With --can, the interface first: one that cannot be opened (no CAN in
+ * the kernel, no such interface) is a usage error, found before anything
+ * else is done. */
+static int command_run(const cli_args_t *args, const scenario_t *s, char *msg)
+{
+    static hal_socketcan_t bridge;
+    if (args->can_ifname == NULL) {
+        return command_run_on(args, s, NULL, msg);
+    }
+    if (hal_socketcan_open(&bridge, args->can_ifname, args->can_node_id) != 0) {
+        snprintf(msg, MSG_MAX, "%s", hal_socketcan_message(&bridge));
+        return CLI_EXIT_USAGE;
+    }
+    const int code = command_run_on(args, s, &bridge, msg);
+    hal_socketcan_close(&bridge);
     return code;
 }
 

@@ -67,6 +67,9 @@ void report_compute(const scenario_t *s, const run_result_t *res, report_t *rep)
     const sim_signal_t y = { .t = ser->t_s, .y = ser->y, .n = ser->n };
     memset(rep, 0, sizeof(*rep));
     rep->time_offset_s = s->time_offset_s;
+    if (res->can) {
+        return; /* the commands came over CAN, not from the reference */
+    }
 
     if (m->has_step) {
         compute_step(s, &y, rep);

@@ -36,6 +36,15 @@
  * A metric that cannot be computed is null in JSON, with the reason under
  * "unavailable" (for a load step: in its own "unavailable" member), and
  * "n/a (reason)" in the table.
+ * A run with --can (the commands came over CAN, not from the reference)
+ * has none of the metrics against the reference (no items, load steps or
+ * windows: the table says so, JSON "command_source": "can" and empty
+ * "metrics", "load_steps", "windows"); its phases, ISR cost and faults are
+ * reported, and its CAN counts: JSON "can": {interface, node_id, link
+ * (the bridge's hal_socketcan_counters_t), node (mc_can_counters_t)},
+ * null without --can. --realtime adds JSON "realtime": {batch_periods,
+ * missed_periods, max_late_s} (run.h), null without it; the table has a
+ * line for each.
  */
 #ifndef PMSM_SIM_REPORT_H
 #define PMSM_SIM_REPORT_H

@@ -98,6 +98,58 @@ static void add_faults(cJSON *root, const run_result_t *res, double time_offset_
     cJSON_AddStringToObject(faults, "final_state", drive_state_name(res->final_state));
 }
 
+/* "realtime": {batch_periods, missed_periods, max_late_s}, null without. */
+static void add_realtime(cJSON *root, const run_result_t *res)
+{
+    if (!res->realtime) {
+        cJSON_AddNullToObject(root, "realtime");
+        return;
+    }
+    cJSON *rt = cJSON_AddObjectToObject(root, "realtime");
+    cJSON_AddNumberToObject(rt, "batch_periods", (double)res->rt_batch_periods);
+    cJSON_AddNumberToObject(rt, "missed_periods", (double)res->missed_periods);
+    cJSON_AddNumberToObject(rt, "max_late_s", res->max_late_s);
+}
+
+/* "can": {interface, node_id, link, node}, null without --can. */
+static void add_can(cJSON *root, const run_result_t *res)
+{
+    if (!res->can) {
+        cJSON_AddNullToObject(root, "can");
+        return;
+    }
+    static const char *const causes[MC_CAN_REJ_COUNT] = { NULL,
+                                                          "unknown_message",
+                                                          "wrong_dlc",
+                                                          "bad_value",
+                                                          "refused_state",
+                                                          "unknown_param",
+                                                          "wrong_param_type" };
+    cJSON *can = cJSON_AddObjectToObject(root, "can");
+    cJSON_AddStringToObject(can, "interface", res->can_ifname);
+    cJSON_AddNumberToObject(can, "node_id", (double)res->can_node_id);
+    const hal_socketcan_counters_t *l = &res->can_link;
+    cJSON *link = cJSON_AddObjectToObject(can, "link");
+    cJSON_AddNumberToObject(link, "rx", (double)l->rx);
+    cJSON_AddNumberToObject(link, "rx_refused", (double)l->rx_refused);
+    cJSON_AddNumberToObject(link, "rx_flushed", (double)l->rx_flushed);
+    cJSON_AddNumberToObject(link, "rx_overflow_drops", (double)l->rx_overflow_drops);
+    cJSON_AddNumberToObject(link, "bus_errors", (double)l->bus_errors);
+    cJSON_AddNumberToObject(link, "tx", (double)l->tx);
+    cJSON_AddNumberToObject(link, "tx_dropped", (double)l->tx_dropped);
+    const mc_can_counters_t *n = &res->can_node;
+    cJSON *node = cJSON_AddObjectToObject(can, "node");
+    cJSON_AddNumberToObject(node, "rx_frames", (double)n->rx_frames);
+    cJSON_AddNumberToObject(node, "rx_accepted", (double)n->rx_accepted);
+    cJSON *rejected = cJSON_AddObjectToObject(node, "rejected");
+    for (unsigned c = 1; c < MC_CAN_REJ_COUNT; c++) {
+        cJSON_AddNumberToObject(rejected, causes[c], (double)n->rejected[c]);
+    }
+    cJSON_AddNumberToObject(node, "tx_frames", (double)n->tx_frames);
+    cJSON_AddNumberToObject(node, "tx_drops", (double)n->tx_drops);
+    cJSON_AddNumberToObject(node, "timeouts", (double)n->timeouts);
+}
+
 static cJSON *build_json(const char *scenario_file, const scenario_t *s, const run_result_t *res,
                          const report_t *rep)
 {
@@ -105,6 +157,7 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
     cJSON_AddStringToObject(root, "scenario", s->name);
     cJSON_AddStringToObject(root, "scenario_file", scenario_file);
     cJSON_AddStringToObject(root, "mode", scenario_mode_name(s->reference.mode));
+    cJSON_AddStringToObject(root, "command_source", res->can ? "can" : "scenario");
     cJSON_AddStringToObject(root, "display_unit", s->reference.display_unit);
     cJSON_AddNumberToObject(root, "duration_s", res->sim_s);
     cJSON_AddNumberToObject(root, "pwm_periods", (double)res->periods);
@@ -152,6 +205,8 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
 
     add_phases(root, res);
     add_faults(root, res, rep->time_offset_s);
+    add_realtime(root, res);
+    add_can(root, res);
     return root;
 }
 

@@ -64,13 +64,55 @@ static void print_faults(FILE *f, const run_result_t *res, double time_offset_s)
     }
 }
 
+/* --realtime: the pacing and its missed periods (run.h). */
+static void print_realtime(FILE *f, const run_result_t *res)
+{
+    fprintf(f, "  realtime: paced to wall time in batches of %u PWM periods; missed periods %llu\n",
+            (unsigned)res->rt_batch_periods, (unsigned long long)res->missed_periods);
+    fprintf(f, "            (reached over one period late; latest %.3f ms after its due time)\n",
+            1e3 * res->max_late_s);
+}
+
+/* --can: the bridge's and the node's counts. */
+static void print_can(FILE *f, const run_result_t *res)
+{
+    char ifname[4 * HAL_SOCKETCAN_IFNAME_MAX];
+    text_escape(res->can_ifname, ifname, sizeof(ifname));
+    const hal_socketcan_counters_t *l = &res->can_link;
+    fprintf(f,
+            "  CAN %s, node %u: %llu frames in, %llu out; lost: %llu (drive queue full), %llu "
+            "(kernel), %llu out; %llu bus errors; %llu dropped at the start\n",
+            ifname, (unsigned)res->can_node_id, (unsigned long long)l->rx,
+            (unsigned long long)l->tx, (unsigned long long)l->rx_refused,
+            (unsigned long long)l->rx_overflow_drops, (unsigned long long)l->tx_dropped,
+            (unsigned long long)l->bus_errors, (unsigned long long)l->rx_flushed);
+    const mc_can_counters_t *n = &res->can_node;
+    uint32_t rejected = 0;
+    for (unsigned c = 1; c < MC_CAN_REJ_COUNT; c++) {
+        rejected += n->rejected[c];
+    }
+    fprintf(f,
+            "  CAN node: %u frames taken, %u valid commands, %u rejected, %u sent, %u send "
+            "drops, %u command timeouts\n",
+            (unsigned)n->rx_frames, (unsigned)n->rx_accepted, (unsigned)rejected,
+            (unsigned)n->tx_frames, (unsigned)n->tx_drops, (unsigned)n->timeouts);
+}
+
 void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res, const report_t *rep)
 {
     char name[4 * SCENARIO_NAME_MAX];
     text_escape(s->name, name, sizeof(name));
-    fprintf(f, "scenario %s: %s control, %.3f s simulated in %.2f s wall (%llu PWM periods)\n",
-            name, scenario_mode_name(s->reference.mode), res->sim_s, res->wall_s,
-            (unsigned long long)res->periods);
+    if (res->can) {
+        fprintf(f,
+                "scenario %s: commands over CAN, %.3f s simulated in %.2f s wall (%llu PWM "
+                "periods)\n",
+                name, res->sim_s, res->wall_s, (unsigned long long)res->periods);
+        fprintf(f, "  (no metrics against the scenario's reference: the drive did not get it)\n");
+    } else {
+        fprintf(f, "scenario %s: %s control, %.3f s simulated in %.2f s wall (%llu PWM periods)\n",
+                name, scenario_mode_name(s->reference.mode), res->sim_s, res->wall_s,
+                (unsigned long long)res->periods);
+    }
     if (rep->time_offset_s != 0.0) {
         fprintf(f, "  (times below in profile time = simulated time - %g s)\n", rep->time_offset_s);
     }
@@ -102,4 +144,10 @@ void report_print_table(FILE *f, const scenario_t *s, const run_result_t *res, c
     fprintf(f, "  %-32s %6.2f / %-6.2f  us (host wall time)\n", "ISR cost mean / max",
             1e6 * res->isr_cost_mean_s, 1e6 * res->isr_cost_max_s);
     print_faults(f, res, rep->time_offset_s);
+    if (res->realtime) {
+        print_realtime(f, res);
+    }
+    if (res->can) {
+        print_can(f, res);
+    }
 }

@@ -60,6 +60,19 @@ bool run_estimate(const scenario_t *s, bool with_csv, bool keep_series, run_esti
            run_pilot(s, with_csv, keep_series, e, msg, msg_size);
 }
 
+void run_estimate_realtime(run_estimate_t *e)
+{
+    e->realtime = true;
+    if (!(e->wall_s > e->sim_s)) { /* NAN without a pilot */
+        e->wall_s = e->sim_s;
+    }
+}
+
+double run_estimate_load(const run_estimate_t *e)
+{
+    return e->pilot_periods > 0 ? e->wall_per_period_s * e->f_pwm_Hz : NAN;
+}
+
 bool run_estimate_is_long(const run_estimate_t *e)
 {
     return e->wall_s > RUN_ESTIMATE_LONG_WALL_S || e->csv_bytes > RUN_ESTIMATE_LONG_CSV_BYTES;
@@ -94,7 +107,19 @@ void run_estimate_print(FILE *f, const run_estimate_t *e)
     fprintf(f, "pmsm-sim: %s: %g s simulated = %.3g PWM periods at %g kHz; ",
             run_estimate_is_long(e) ? "a long run" : "the run", e->sim_s, (double)e->periods,
             e->f_pwm_Hz / 1e3);
-    if (e->pilot_periods > 0) {
+    if (e->realtime) {
+        char wall[32];
+        duration_text(e->wall_s, wall, sizeof(wall));
+        fprintf(f, "wall time about %s (paced to real time", wall);
+        if (e->pilot_periods > 0) {
+            fprintf(f,
+                    "; the simulation needs %.3g us per period of %.3g us, measured on a pilot "
+                    "run of its first %llu periods",
+                    e->wall_per_period_s * 1e6, 1e6 / e->f_pwm_Hz,
+                    (unsigned long long)e->pilot_periods);
+        }
+        fputs(")", f);
+    } else if (e->pilot_periods > 0) {
         char wall[32];
         duration_text(e->wall_s, wall, sizeof(wall));
         fprintf(f,

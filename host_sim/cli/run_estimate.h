@@ -42,7 +42,9 @@ typedef struct {
     double csv_bytes;         /* header included */
     uint64_t pilot_periods;   /* 0: no pilot (the run is no longer than one) */
     double wall_per_period_s; /* measured on the pilot */
-    double wall_s;            /* extrapolated; NAN without a pilot */
+    double wall_s;            /* extrapolated; NAN without a pilot; with
+                                 realtime at least sim_s */
+    bool realtime;            /* paced to wall time (run_estimate_realtime) */
 } run_estimate_t;
 
 /* The estimate of s, with a CSV trace or without, with the metric series
@@ -50,6 +52,14 @@ typedef struct {
  * pilot fails (the run would fail the same way). */
 bool run_estimate(const scenario_t *s, bool with_csv, bool keep_series, run_estimate_t *e,
                   char *msg, size_t msg_size);
+
+/* The run is paced to wall time: it takes the simulated time, or the
+ * pilot's extrapolation when the machine is slower than real time. */
+void run_estimate_realtime(run_estimate_t *e);
+
+/* With a pilot: the wall time per PWM period over the period (above 1:
+ * the machine simulates slower than real time); NAN without a pilot. */
+double run_estimate_load(const run_estimate_t *e);
 
 bool run_estimate_is_long(const run_estimate_t *e);
 

@@ -10,6 +10,9 @@
 
 #define SIM_ENGINE_TWO_PI 6.283185307179586476925286766559
 
+/* The drive's CAN bit rate (the protocol's: tools/dbc/pmsm_drive.dbc). */
+#define SIM_ENGINE_CAN_BITRATE_BPS 1000000u
+
 static int fail(sim_engine_t *e, int code, const char *message)
 {
     e->message = message;
@@ -44,6 +47,21 @@ void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw
     fw->timing.isr_overrun_limit = MC_TIMING_OVERRUN_LIMIT_MAX;
 }
 
+/* NULL when the firmware configuration agrees with the plant's PWM rate
+ * and encoder resolution (cpr = 4 x lines), else what differs. */
+static const char *firmware_mismatch(const mc_config_t *fw_cfg, double f_plant_Hz, uint32_t cpr)
+{
+    if (!(fabs((double)fw_cfg->timing.f_pwm_Hz - f_plant_Hz) <=
+          SIM_ENGINE_F_PWM_REL_TOL * f_plant_Hz)) {
+        return "firmware timing.f_pwm_Hz differs from the plant's f_pwm_Hz";
+    }
+    const uint32_t fw_cpr = mc_config_estimator_info(fw_cfg).encoder_cpr;
+    if (fw_cpr != 0u && fw_cpr != cpr) {
+        return "firmware encoder.counts_per_rev differs from 4 x plant encoder lines";
+    }
+    return NULL;
+}
+
 int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_config_t *fw_cfg)
 {
     if (e == NULL) {
@@ -57,15 +75,10 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
         return fail(e, SIM_ENGINE_ERR_PLANT, plant_error_message(&e->plant));
     }
     const double f_plant = plant_cfg->inverter.f_pwm_Hz;
-    if (!(fabs((double)fw_cfg->timing.f_pwm_Hz - f_plant) <= SIM_ENGINE_F_PWM_REL_TOL * f_plant)) {
-        return fail(e, SIM_ENGINE_ERR_MISMATCH,
-                    "firmware timing.f_pwm_Hz differs from the plant's f_pwm_Hz");
-    }
     const uint32_t cpr = 4u * plant_cfg->sensors.encoder.lines;
-    const uint32_t fw_cpr = mc_config_estimator_info(fw_cfg).encoder_cpr;
-    if (fw_cpr != 0u && fw_cpr != cpr) {
-        return fail(e, SIM_ENGINE_ERR_MISMATCH,
-                    "firmware encoder.counts_per_rev differs from 4 x plant encoder lines");
+    const char *mismatch = firmware_mismatch(fw_cfg, f_plant, cpr);
+    if (mismatch != NULL) {
+        return fail(e, SIM_ENGINE_ERR_MISMATCH, mismatch);
     }
     /* plant_init checked that the half-period update has even substeps */
     const bool half = plant_cfg->inverter.duty_update == PLANT_DUTY_UPDATE_HALF_PERIOD;
@@ -87,6 +100,7 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
     if (st != MC_OK) {
         return fail(e, SIM_ENGINE_ERR_FIRMWARE, "firmware config rejected by mc_app_init");
     }
+    e->fw_cfg = *fw_cfg;
     for (unsigned k = 0u; k < 3u; ++k) {
         e->duty_next[k] = 0.5;
     }
@@ -344,15 +358,16 @@ static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m, bo
 
 int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
 {
-    if (e == NULL || cmd == NULL) {
+    if (e == NULL || (cmd == NULL && !e->can_attached)) {
         return SIM_ENGINE_ERR_NULL;
     }
     if (!e->initialised) {
         return fail(e, SIM_ENGINE_ERR_STATE, "engine is not initialised");
     }
     /* The command first: a rejected one must leave no trace (no PRNG
-     * draw, no consumed encoder index, sim_engine_last() unchanged). */
-    if (mc_app_set_command(&e->app, cmd) != MC_OK) {
+     * draw, no consumed encoder index, sim_engine_last() unchanged). With
+     * a CAN node the node hands its command to the drive in its poll. */
+    if (!e->can_attached && mc_app_set_command(&e->app, cmd) != MC_OK) {
         return fail(e, SIM_ENGINE_ERR_COMMAND, "command has an unknown mode");
     }
     if (!set_plant_faults(e, plant_true_state(&e->plant)->t_s)) {
@@ -371,10 +386,16 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
     /* 3. HAL mailbox, fast ISR. */
     fill_mailbox(&e->mailbox, &s->meas, fault_input);
     hal_sim_bind(&e->mailbox);
+    /* the command the ISR uses: the one handed over before it */
+    s->cmd = e->can_attached ? e->can_node.cmd : *cmd;
     mc_app_fast_isr(&e->app);
     (void)mc_app_get_telemetry(&e->app, &s->fw); /* no concurrency here */
+    if (e->can_attached) {
+        /* the background loop after the ISR (a parameter write may
+         * re-initialise the drive here: engine_apply_config) */
+        mc_can_node_poll(&e->can_node, &e->app);
+    }
     hal_sim_bind(NULL);
-    s->cmd = *cmd;
 
     /* 4. Advance: the previous ISR's duties until the update event, this
      * ISR's after it; enable is delayed like the duties, disable is
@@ -410,4 +431,111 @@ double sim_engine_time_s(const sim_engine_t *e)
 double sim_engine_period_s(const sim_engine_t *e)
 {
     return plant_period_s(&e->plant);
+}
+
+/* The CAN node's apply callback (mc_can_apply_config_fn): runs inside
+ * mc_can_node_poll, after the ISR of this step and before the plant
+ * advances, with the engine's mailbox bound and no ISR possible (one
+ * thread), so the drive is never seen half initialised; the next ISR runs
+ * on the re-initialised drive. The node has validated cfg and checked that
+ * the drive is stopped; the engine checks again what it needs (stopped,
+ * the plant's PWM rate and encoder resolution). The engine owns the
+ * mc_app_t, so it may copy it back whole after a refused mc_app_init. */
+static mc_status_t engine_apply_config(void *ctx, const mc_config_t *cfg)
+{
+    sim_engine_t *e = ctx;
+    mc_telemetry_t tlm;
+    if (mc_app_get_telemetry(&e->app, &tlm) != MC_OK ||
+        (tlm.state != MC_STATE_IDLE && tlm.state != MC_STATE_FAULT)) {
+        return MC_ERR_STATE;
+    }
+    if (firmware_mismatch(cfg, (double)e->mailbox.pwm_f_Hz, e->mailbox.encoder_cpr) != NULL) {
+        return MC_ERR_PARAM;
+    }
+    /* the drive exactly as it is (state, latched faults, history) and the
+     * firmware's HAL outputs, to put back if mc_app_init refuses cfg */
+    const mc_app_t before = e->app;
+    hal_sim_mailbox_t *mb = &e->mailbox;
+    const float duty[3] = { mb->duty_abc[0], mb->duty_abc[1], mb->duty_abc[2] };
+    const bool pwm_on = mb->pwm_outputs_enabled;
+    const bool stage_on = mb->power_stage_enabled;
+    const mc_status_t st = mc_app_init(&e->app, cfg);
+    if (st != MC_OK) {
+        e->app = before;
+        for (unsigned k = 0u; k < 3u; ++k) {
+            mb->duty_abc[k] = duty[k];
+        }
+        mb->pwm_outputs_enabled = pwm_on;
+        mb->power_stage_enabled = stage_on;
+        return st;
+    }
+    e->fw_cfg = *cfg;
+    return MC_OK;
+}
+
+int sim_engine_can_attach(sim_engine_t *e, const mc_can_node_config_t *cfg)
+{
+    if (e == NULL || cfg == NULL) {
+        return SIM_ENGINE_ERR_NULL;
+    }
+    if (!e->initialised) {
+        return fail(e, SIM_ENGINE_ERR_STATE, "engine is not initialised");
+    }
+    if (e->can_attached) {
+        return fail(e, SIM_ENGINE_ERR_STATE, "a CAN node is attached already");
+    }
+    hal_sim_bind(&e->mailbox);
+    const bool was_up = e->mailbox.can_up;
+    const uint32_t bitrate = e->mailbox.can_bitrate_bps;
+    int code = SIM_ENGINE_OK;
+    if (hal_can_init(SIM_ENGINE_CAN_BITRATE_BPS) != HAL_OK) {
+        code = fail(e, SIM_ENGINE_ERR_CAN, "hal_can_init refused 1 Mbit/s");
+    } else if (mc_can_node_init(&e->can_node, cfg, &e->fw_cfg, engine_apply_config, e) != MC_OK) {
+        e->mailbox.can_up = was_up; /* nothing changes */
+        e->mailbox.can_bitrate_bps = bitrate;
+        code = fail(e, SIM_ENGINE_ERR_CAN,
+                    "CAN node configuration rejected by mc_can_node_init (node_id 0..63, "
+                    "timeout_s in (0, 60])");
+    }
+    hal_sim_bind(NULL);
+    if (code != SIM_ENGINE_OK) {
+        return code;
+    }
+    e->can_attached = true;
+    e->message = "ok";
+    return SIM_ENGINE_OK;
+}
+
+bool sim_engine_can_deliver(sim_engine_t *e, const hal_can_frame_t *f)
+{
+    if (e == NULL || f == NULL || !e->can_attached) {
+        return false;
+    }
+    const uint32_t id_max = f->extended ? 0x1FFFFFFFu : 0x7FFu;
+    if (f->dlc > HAL_CAN_MAX_DLC || f->id > id_max) {
+        return false;
+    }
+    return hal_sim_can_deliver(&e->mailbox, f);
+}
+
+bool sim_engine_can_collect(sim_engine_t *e, hal_can_frame_t *f)
+{
+    if (e == NULL || f == NULL || !e->can_attached) {
+        return false;
+    }
+    return hal_sim_can_collect(&e->mailbox, f);
+}
+
+void sim_engine_can_count_link_events(sim_engine_t *e, uint32_t rx_overruns, uint32_t bus_errors)
+{
+    if (e == NULL || !e->can_attached) {
+        return;
+    }
+    e->mailbox.can_stats.rx_overruns += rx_overruns; /* wrapping, as hal/can.h says */
+    e->mailbox.can_stats.bus_errors += bus_errors;
+}
+
+const mc_can_node_t *sim_engine_can_node(const sim_engine_t *e)
+{
+    return (e != NULL && e->can_attached) ? &e->can_node : NULL;
 }

@@ -29,10 +29,19 @@
  * Fault injection (for tests and scenarios) is driven by the sample time:
  * an injection is active for t_start_s <= t_k < t_end_s.
  *
+ * CAN (optional, sim_engine_can_attach): the drive gets a CAN node
+ * (mc/can_node.h) on its HAL mailbox's CAN queues. From then on the drive's
+ * command comes from the node: the command argument of sim_engine_step is
+ * ignored, and the node is polled (mc_can_node_poll) after every fast ISR
+ * of step 3, with the mailbox bound and hal_time_ticks() = t_k. Frames go
+ * in and out through sim_engine_can_deliver / sim_engine_can_collect (a
+ * test, or a bridge to a CAN interface: hal/host/socketcan.h).
+ *
  * Host only (C11, double precision, no allocation: the caller owns the
- * engine, about 6.5 kB, plant included; allocate it statically or on the
- * heap). Single-threaded per engine; several engines may be stepped in turn
- * from one thread (each step binds its own HAL mailbox).
+ * engine, about 11 kB, plant and CAN node included; allocate it statically
+ * or on the heap, and do not copy an initialised engine: the CAN node keeps
+ * a pointer to it). Single-threaded per engine; several engines may be
+ * stepped in turn from one thread (each step binds its own HAL mailbox).
  */
 #ifndef SIM_ENGINE_H
 #define SIM_ENGINE_H
@@ -40,8 +49,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "hal/can.h"
 #include "hal_sim_mailbox.h"
 #include "mc/app.h"
+#include "mc/can_node.h"
 #include "plant.h"
 
 #define SIM_ENGINE_MAX_INJECTIONS 16u
@@ -60,7 +71,10 @@ typedef enum {
     SIM_ENGINE_ERR_FIRMWARE = -4,  /* mc_app_init failed */
     SIM_ENGINE_ERR_INJECTION = -5, /* invalid injection or table full */
     SIM_ENGINE_ERR_COMMAND = -6,   /* mc_app_set_command rejected it */
-    SIM_ENGINE_ERR_STATE = -7      /* step on an engine whose init failed */
+    SIM_ENGINE_ERR_STATE = -7,     /* step on an engine whose init failed;
+                                      a CAN node attached twice */
+    SIM_ENGINE_ERR_CAN = -8        /* hal_can_init or mc_can_node_init
+                                      refused (see the message) */
 } sim_engine_err_t;
 
 /* Measurement-side kinds (CURRENT_*, VDC_MEASURED, FAULT_INPUT, ENCODER_*)
@@ -167,7 +181,9 @@ typedef struct {
     plant_measurement_t meas;   /* what the HAL delivered (after the
                                    injections) */
     uint32_t injections_active; /* bit i: injection i was active at t_k */
-    mc_command_t cmd;           /* command given for this step */
+    mc_command_t cmd;           /* command given for this step (with a CAN
+                                   node attached: the node's command in
+                                   force at this ISR) */
     mc_telemetry_t fw;          /* firmware telemetry of the ISR at t_k */
     double duty_applied[3];     /* duties the inverter used from t_k
                                    (to t_k + Ts, or to t_k + Ts/2 with the
@@ -179,7 +195,10 @@ typedef struct {
 typedef struct {
     plant_t plant;
     mc_app_t app;
+    mc_config_t fw_cfg; /* the firmware configuration in force */
     hal_sim_mailbox_t mailbox;
+    bool can_attached;
+    mc_can_node_t can_node;
     double duty_next[3]; /* latched by the last ISR */
     bool outputs_next;
     bool half_period_update;         /* plant inverter.duty_update */
@@ -229,10 +248,12 @@ const char *sim_engine_message(const sim_engine_t *e);
 int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj);
 
 /* Simulate one PWM period with this command (see the top of this file).
- * SIM_ENGINE_ERR_COMMAND: unknown mode; nothing changes (the period is NOT
- * simulated, the sensors are not sampled, sim_engine_last() is kept).
- * SIM_ENGINE_ERR_PLANT: the plant refused a plant-side fault (the message
- * is the plant's); the period is not simulated. */
+ * With a CAN node attached the command comes from the node: cmd is
+ * ignored and may be NULL. SIM_ENGINE_ERR_COMMAND: unknown mode; nothing
+ * changes (the period is NOT simulated, the sensors are not sampled,
+ * sim_engine_last() is kept). SIM_ENGINE_ERR_PLANT: the plant refused a
+ * plant-side fault (the message is the plant's); the period is not
+ * simulated. */
 int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd);
 
 /* The trace sample of the latest step (valid until the next step). */
@@ -243,5 +264,50 @@ double sim_engine_time_s(const sim_engine_t *e);
 
 /* PWM period Ts in s. */
 double sim_engine_period_s(const sim_engine_t *e);
+
+/* Give the drive a CAN node with configuration cfg (mc/can_node.h) on its
+ * mailbox's CAN queues, at any time after init: brings the drive's CAN up
+ * (hal_can_init(1000000)) and initialises the node with the firmware
+ * configuration in force and the engine's apply callback. From the next
+ * step on the drive's command is the node's (it starts disabled) and the
+ * node is polled after every fast ISR; sim_engine_step's cmd is ignored.
+ * A parameter write the node accepts (drive IDLE or FAULT) is put in
+ * force inside that poll, between two ISRs: the engine re-initialises the
+ * drive (mc_app_init: the drive restarts in IDLE, faults cleared, offsets
+ * to be calibrated again at the next enable) with the new configuration.
+ * A configuration the engine cannot run is refused (MC_ERR_STATE: the
+ * drive is not IDLE or FAULT; MC_ERR_PARAM: PWM frequency or encoder
+ * resolution no longer the plant's; mc_app_init's error) and the drive
+ * stays exactly as it was (the engine puts back its copy of the drive
+ * taken before mc_app_init): the node answers the write with the error.
+ * Returns SIM_ENGINE_OK, SIM_ENGINE_ERR_NULL, SIM_ENGINE_ERR_STATE (init
+ * failed, or a node is attached already) or SIM_ENGINE_ERR_CAN (cfg
+ * refused by mc_can_node_init: node_id over 63, timeout_s outside
+ * (0, 60]); on an error nothing changes. */
+int sim_engine_can_attach(sim_engine_t *e, const mc_can_node_config_t *cfg);
+
+/* Queue a frame for the drive's CAN node (the mailbox's receive queue,
+ * read by the node's next poll). false: no node attached, a frame outside
+ * the format limits of hal/can.h (dlc over 8, identifier too large), or
+ * the queue (HAL_SIM_CAN_QUEUE_LEN frames) full: then the frame is lost
+ * and counted in the drive's hal_can_stats rx_overruns, as a controller's
+ * FIFO overrun. */
+bool sim_engine_can_deliver(sim_engine_t *e, const hal_can_frame_t *f);
+
+/* Take the oldest frame the drive sent (the mailbox's transmit queue);
+ * false when none is pending or no node is attached. The node's frames
+ * that found the queue full were dropped by the node and counted in its
+ * tx_drops (mc_can_counters_t). */
+bool sim_engine_can_collect(sim_engine_t *e, hal_can_frame_t *f);
+
+/* Add link events seen outside the engine (a bridge's lost receive frames
+ * and bus error frames) to the counts the drive reads through
+ * hal_can_stats() (its Tlm_Counters / Tlm_Errors). No effect without a
+ * node. */
+void sim_engine_can_count_link_events(sim_engine_t *e, uint32_t rx_overruns, uint32_t bus_errors);
+
+/* The attached CAN node (its counters: mc_can_node_counters), NULL when
+ * none is attached. */
+const mc_can_node_t *sim_engine_can_node(const sim_engine_t *e);
 
 #endif /* SIM_ENGINE_H */

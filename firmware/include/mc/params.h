@@ -37,6 +37,10 @@ typedef struct {
         NULL, MC_PARAM_F32, 0u                                                 \
     }
 
+/* Bytes of a field of this type (0 for an unknown type). Interrupt
+ * context: yes. */
+size_t mc_param_size(mc_param_type_t type);
+
 typedef struct {
     const char *name; /* block key ("" for the top level) */
     uint32_t offset;  /* bytes from the start of mc_config_t */

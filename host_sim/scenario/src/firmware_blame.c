@@ -201,7 +201,7 @@ static bool switch_suspect(jr_object_t *objects, const mc_config_t *cfg,
                 mc_config_t trial = *cfg;
                 const size_t at = b->offset + p->offset;
                 memcpy((unsigned char *)&trial + at, (const unsigned char *)defaults + at,
-                       scenario_firmware_field_size(p->type));
+                       mc_param_size(p->type));
                 if (mc_config_validate(&trial) == MC_OK) {
                     param_name(b, p, name, size);
                     return true;

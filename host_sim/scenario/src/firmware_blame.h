@@ -27,9 +27,6 @@
 #include "mc/config.h"
 #include "sim/json_reader.h"
 
-/* The bytes of a field of this type in mc_config_t. */
-size_t scenario_firmware_field_size(mc_param_type_t type);
-
 /* Record the error for cfg, which mc_config_validate() rejected with st.
  * objects[i] is the reader's object of the i-th block of mc_config_params()
  * (NULL json when the file does not have it); fw is the "firmware" object. */

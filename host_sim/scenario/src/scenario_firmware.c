@@ -28,18 +28,6 @@ bool scenario_firmware_from_plant(const char *block, const char *field)
            (strcmp(block, "encoder") == 0 && strcmp(field, "counts_per_rev") == 0);
 }
 
-size_t scenario_firmware_field_size(mc_param_type_t type)
-{
-    switch (type) {
-    case MC_PARAM_F32: return sizeof(float);
-    case MC_PARAM_U32: return sizeof(uint32_t);
-    case MC_PARAM_BOOL: return sizeof(bool);
-    case MC_PARAM_CONTROLLER: return sizeof(mc_controller_t);
-    case MC_PARAM_ESTIMATOR: return sizeof(mc_estimator_t);
-    }
-    return 0;
-}
-
 /* The list names of an enum parameter. */
 static size_t list_names(mc_param_type_t type, const char **names)
 {
@@ -65,7 +53,7 @@ static bool read_field(jr_object_t *o, const mc_param_t *p, unsigned char *field
         mc_controller_t controller;
         mc_estimator_t estimator;
     } v;
-    memcpy(&v, field, scenario_firmware_field_size(p->type));
+    memcpy(&v, field, mc_param_size(p->type));
     bool ok = false;
     double d = 0.0;
     size_t index = 0;
@@ -89,7 +77,7 @@ static bool read_field(jr_object_t *o, const mc_param_t *p, unsigned char *field
         break;
     }
     if (ok) {
-        memcpy(field, &v, scenario_firmware_field_size(p->type));
+        memcpy(field, &v, mc_param_size(p->type));
     }
     return ok;
 }

@@ -100,6 +100,20 @@ static const field_t *find_field(const field_t *f, size_t n, const char *block, 
     return NULL;
 }
 
+/* mc_param_size: the C type each table type stands for; the tables'
+ * fields tile the configuration with these sizes (test_fields_tile_the_
+ * config), and readers copy fields with them. */
+static void test_param_sizes(void **state)
+{
+    (void)state;
+    assert_int_equal(mc_param_size(MC_PARAM_F32), sizeof(float));
+    assert_int_equal(mc_param_size(MC_PARAM_U32), sizeof(uint32_t));
+    assert_int_equal(mc_param_size(MC_PARAM_BOOL), sizeof(bool));
+    assert_int_equal(mc_param_size(MC_PARAM_CONTROLLER), sizeof(mc_controller_t));
+    assert_int_equal(mc_param_size(MC_PARAM_ESTIMATOR), sizeof(mc_estimator_t));
+    assert_int_equal(mc_param_size((mc_param_type_t)99), 0u);
+}
+
 static void test_names_unique(void **state)
 {
     (void)state;
@@ -332,6 +346,7 @@ static void test_every_float_is_checked(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_param_sizes),
         cmocka_unit_test(test_names_unique),
         cmocka_unit_test(test_fields_tile_the_config),
         cmocka_unit_test(test_blocks_at_their_members),

@@ -693,19 +693,6 @@ static bool from_plant(const char *block, const char *field)
            (strcmp(block, "encoder") == 0 && strcmp(field, "counts_per_rev") == 0);
 }
 
-static size_t param_size(mc_param_type_t type)
-{
-    switch (type) {
-    case MC_PARAM_F32: return sizeof(float);
-    case MC_PARAM_U32: return sizeof(uint32_t);
-    case MC_PARAM_BOOL: return sizeof(bool);
-    case MC_PARAM_CONTROLLER: return sizeof(mc_controller_t);
-    case MC_PARAM_ESTIMATOR: return sizeof(mc_estimator_t);
-    }
-    fail_msg("unknown parameter type %d", (int)type);
-    return 0;
-}
-
 static const unsigned char *field_of(const mc_config_t *c, const mc_param_block_t *b,
                                      const mc_param_t *p)
 {
@@ -781,7 +768,7 @@ static void every_table_field_is_a_key(void **state)
                 fail_msg("no test value for the firmware parameter %s", key);
             }
             n_fields++;
-            const size_t size = param_size(p->type);
+            const size_t size = mc_param_size(p->type);
             unsigned char want[8];
             char text[64];
             encode_value(p, fc->value, want, text, sizeof text);
@@ -800,7 +787,7 @@ static void every_table_field_is_a_key(void **state)
                     const bool target = (b2 == b && p2 == p);
                     const unsigned char *expect =
                         target ? want : field_of(&baseline[fc->ctx], b2, p2);
-                    if (memcmp(got, expect, param_size(p2->type)) != 0) {
+                    if (memcmp(got, expect, mc_param_size(p2->type)) != 0) {
                         fail_msg("%s: firmware field %s.%s is not as expected", assignment,
                                  b2->name, p2->name);
                     }
