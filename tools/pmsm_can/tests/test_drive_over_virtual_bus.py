@@ -216,3 +216,31 @@ def test_dropped_and_corrupted_frames_detected(drive):
     assert client.monitor.lost == 1, client.monitor.summary()
     assert client.monitor.corrupted == 1, client.monitor.summary()
     assert client.monitor.repeated == 0
+
+
+def test_cli_commands_and_replay_plot(drive, tmp_path, capsys):
+    """The console commands a user types, on the same bus: status, rate,
+    param get/set, log, and replay with a plot written to a PNG."""
+    _, _, _, bus = drive
+    parser = cli.build_parser()
+
+    def run(*argv):
+        return cli.run(parser.parse_args(["--interface", "virtual", "--channel", "pmsm-test", *argv]),
+                       bus=bus)
+
+    assert run("status", "--once") == 0
+    assert "IDLE" in capsys.readouterr().out
+    assert run("param", "set", "foc_pi.speed_bandwidth_rad_s", "140") == 0
+    assert run("param", "get", "foc_pi.speed_bandwidth_rad_s") == 0
+    assert "foc_pi.speed_bandwidth_rad_s = 140.0 (f32)" in capsys.readouterr().out
+    assert run("rate", "Tlm_Currents", "20") == 0
+    log = str(tmp_path / "run.blf")
+    assert run("log", log, "--duration", "0.3") == 0
+    png = str(tmp_path / "v_dc.png")
+    assert cli.main(["replay", log, "--plot", "Tlm_Currents.V_dc", "--out", png]) == 0
+    out = capsys.readouterr().out
+    assert "Tlm_Currents" in out and "0 lost" in out
+    assert os.path.getsize(png) > 1000
+    frames, _ = cli.replay(log, Protocol(0))
+    v_dc = [s["V_dc"] for _, n, s in frames if n == "Tlm_Currents"]
+    assert len(v_dc) >= 10 and all(abs(v - 300.0) < 1.0 for v in v_dc)  # the scenario's bus
