@@ -17,7 +17,10 @@ debian_packages=(
   parallel
   clang libclang-rt-14-dev
   can-utils
+  qemu-system-x86 busybox-static cpio kmod
 )
+# From bookworm-backports (the v2 API of libgpiod: 2.1.3; bookworm has 1.6).
+backports_packages=(libgpiod-dev gpiod)
 
 missing=()
 for p in "${debian_packages[@]}"; do
@@ -39,6 +42,29 @@ if ((${#missing[@]})); then
   echo "setup: installing ${missing[*]}"
   "${sudo[@]}" apt-get update -qq
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# libgpiod v2 from bookworm-backports (the same mirror, another suite)
+gpiod_v2() { pkg-config --atleast-version=2 libgpiod 2>/dev/null; }
+if ! gpiod_v2; then
+  if [[ $(id -u) -eq 0 ]]; then
+    sudo=()
+  elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+    sudo=(sudo -n)
+  else
+    echo "setup: libgpiod v2 (bookworm-backports) missing; run this script as root" >&2
+    exit 1
+  fi
+  list=/etc/apt/sources.list.d/bookworm-backports.sources
+  if ! grep -rqs "bookworm-backports" /etc/apt/sources.list /etc/apt/sources.list.d/; then
+    echo "setup: adding the bookworm-backports suite ($list)"
+    printf 'Types: deb\nURIs: http://deb.debian.org/debian\nSuites: bookworm-backports\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' |
+      "${sudo[@]}" tee "$list" >/dev/null
+  fi
+  echo "setup: installing ${backports_packages[*]} from bookworm-backports"
+  "${sudo[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
+    -t bookworm-backports "${backports_packages[@]}" >/dev/null
 fi
 
 # Python tools (plots, CAN telemetry) live in a virtual environment.
