@@ -19,7 +19,8 @@
 #   --prepare      only build the cache (kernel + initramfs) and stop
 #   --verbose      say which path runs, the cache, and the VM's boot time
 #
-# Cache: $PMSM_VM_CACHE, else ${XDG_CACHE_HOME:-$HOME/.cache}/pmsm-drive-vm:
+# Cache: $PMSM_VM_CACHE, else ${XDG_CACHE_HOME:-$HOME/.cache}/pmsm-drive-vm
+# (without a home: ${TMPDIR:-/tmp}/pmsm-drive-vm-<uid>):
 # the kernel of the version the mirror's linux-image-amd64 metapackage
 # depends on (apt-cache; `apt-get download` + `dpkg -x`, never installed),
 # only its vmlinuz and the modules the VM needs kept, and the busybox
@@ -94,7 +95,13 @@ fi
 
 # ---- the cache: kernel and initramfs -----------------------------------
 need qemu-system-x86_64 busybox cpio gzip depmod modprobe apt-cache apt-get dpkg timeout
-cache=${PMSM_VM_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/pmsm-drive-vm}
+if [[ -n ${PMSM_VM_CACHE:-} ]]; then
+  cache=$PMSM_VM_CACHE
+elif [[ -n ${XDG_CACHE_HOME:-} || -n ${HOME:-} ]]; then
+  cache=${XDG_CACHE_HOME:-$HOME/.cache}/pmsm-drive-vm
+else
+  cache=${TMPDIR:-/tmp}/pmsm-drive-vm-$(id -u)  # no home: a per-user temporary cache
+fi
 mkdir -p "$cache" || die "cannot create the cache $cache"
 say "cache $cache"
 
