@@ -107,7 +107,7 @@ static bool sent_by_drive(uint32_t msg)
 
 static frame_class_t classify(const mc_can_node_t *n, const hal_can_frame_t *f)
 {
-    if (f->id > MC_CAN_STD_ID_MAX ||
+    if (f->id > HAL_CAN_STD_ID_MAX ||
         (f->id >> MC_CAN_MSG_BITS) != n->cfg.node_id ||
         sent_by_drive(f->id & MC_CAN_MSG_MASK)) {
         return FRAME_IGNORE;

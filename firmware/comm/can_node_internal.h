@@ -13,9 +13,8 @@
 #include "mc/can_node.h"
 #include "mc/can_params.h"
 
-#define MC_CAN_MSG_BITS   5u /* message number bits */
-#define MC_CAN_MSG_MASK   ((1u << MC_CAN_MSG_BITS) - 1u)
-#define MC_CAN_STD_ID_MAX 0x7FFu
+#define MC_CAN_MSG_BITS 5u /* message number bits */
+#define MC_CAN_MSG_MASK ((1u << MC_CAN_MSG_BITS) - 1u)
 
 /* Rsp_Param Status (the DBC's value table). */
 typedef enum {

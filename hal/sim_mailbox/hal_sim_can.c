@@ -26,13 +26,6 @@ static bool queue_pop(hal_sim_can_queue_t *q, hal_can_frame_t *f)
     return true;
 }
 
-/* the frame's format limits (hal/can.h) */
-static bool frame_valid(const hal_can_frame_t *f)
-{
-    const uint32_t id_max = f->extended ? 0x1FFFFFFFu : 0x7FFu;
-    return f->dlc <= HAL_CAN_MAX_DLC && f->id <= id_max;
-}
-
 bool hal_sim_can_deliver(hal_sim_mailbox_t *mailbox,
                          const hal_can_frame_t *frame)
 {
@@ -63,7 +56,7 @@ hal_status_t hal_can_init(uint32_t bitrate_bps)
 hal_status_t hal_can_send(const hal_can_frame_t *frame)
 {
     hal_sim_mailbox_t *m = hal_sim_bound();
-    if (!frame_valid(frame)) {
+    if (!hal_can_frame_valid(frame)) {
         return HAL_ERR_PARAM;
     }
     if (!m->can_up) {

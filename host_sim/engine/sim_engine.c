@@ -511,8 +511,7 @@ bool sim_engine_can_deliver(sim_engine_t *e, const hal_can_frame_t *f)
     if (e == NULL || f == NULL || !e->can_attached) {
         return false;
     }
-    const uint32_t id_max = f->extended ? 0x1FFFFFFFu : 0x7FFu;
-    if (f->dlc > HAL_CAN_MAX_DLC || f->id > id_max) {
+    if (!hal_can_frame_valid(f)) {
         return false;
     }
     return hal_sim_can_deliver(&e->mailbox, f);

@@ -82,7 +82,7 @@ int pe_deliver(pe_t *h, uint32_t id, uint32_t dlc, const uint8_t *data, int flag
                           .extended = (flags & PE_FRAME_EXTENDED) != 0,
                           .rtr = (flags & PE_FRAME_RTR) != 0,
                           .dlc = (uint8_t)dlc };
-    if (dlc > HAL_CAN_MAX_DLC || id > (f.extended ? 0x1FFFFFFFu : 0x7FFu)) {
+    if (dlc > HAL_CAN_MAX_DLC || !hal_can_frame_valid(&f)) {
         return -1;
     }
     memcpy(f.data, data, dlc);

@@ -16,7 +16,9 @@
 
 #include "hal/hal_status.h"
 
-#define HAL_CAN_MAX_DLC 8u
+#define HAL_CAN_MAX_DLC    8u
+#define HAL_CAN_STD_ID_MAX 0x7FFu      /* largest 11-bit identifier */
+#define HAL_CAN_EXT_ID_MAX 0x1FFFFFFFu /* largest 29-bit identifier */
 
 typedef struct {
     uint32_t id;   /* 11-bit (<= 0x7FF) or 29-bit identifier */
@@ -25,6 +27,16 @@ typedef struct {
     uint8_t dlc;   /* data length, 0..8 */
     uint8_t data[HAL_CAN_MAX_DLC];
 } hal_can_frame_t;
+
+/* True if the frame fits its format: dlc <= HAL_CAN_MAX_DLC and the id
+ * within its 11 or 29 bits (what hal_can_send refuses with HAL_ERR_PARAM).
+ * Interrupt context: yes. */
+static inline bool hal_can_frame_valid(const hal_can_frame_t *f)
+{
+    const uint32_t id_max =
+        f->extended ? HAL_CAN_EXT_ID_MAX : HAL_CAN_STD_ID_MAX;
+    return f->dlc <= HAL_CAN_MAX_DLC && f->id <= id_max;
+}
 
 /* Bring the controller up at bitrate_bps (e.g. 500000). HAL_ERR_PARAM for an
  * unsupported bitrate. Interrupt context: no. */
