@@ -119,6 +119,22 @@ static void steps(bench_t *b, unsigned n)
     }
 }
 
+/* Step `seconds`, resending Cmd_Speed (OMEGA_REF) every CMD_EVERY_S (it
+ * feeds the command timeout), no fault latched; the last sample. */
+static const sim_trace_sample_t *run_commanded(bench_t *b, double seconds)
+{
+    const uint32_t cmd_every = (uint32_t)lround(CMD_EVERY_S / b->ts);
+    const sim_trace_sample_t *s = sim_engine_last(b->e);
+    for (uint32_t k = 0; k < (uint32_t)lround(seconds / b->ts); ++k) {
+        if (k > 0u && k % cmd_every == 0u) {
+            deliver(b, can_cmd_speed(NODE, (float)OMEGA_REF));
+        }
+        s = step(b);
+        assert_int_equal(s->fw.faults_latched, 0u);
+    }
+    return s;
+}
+
 static sim_engine_t *load_engine(void)
 {
     return shipped_scenario_engine(SCENARIO, NULL, 0u, &scn);
@@ -292,13 +308,7 @@ static void test_speed_timeout_param(void **state)
     /* 4. The re-initialised drive runs again. */
     deliver(&b, can_cmd_speed(NODE, (float)OMEGA_REF));
     deliver(&b, can_cmd_enable(NODE, true));
-    for (uint32_t k = 0; k < (uint32_t)lround(0.2 / b.ts); ++k) {
-        if (k > 0u && k % cmd_every == 0u) {
-            deliver(&b, can_cmd_speed(NODE, (float)OMEGA_REF));
-        }
-        s = step(&b);
-        assert_int_equal(s->fw.faults_latched, 0u);
-    }
+    s = run_commanded(&b, 0.2);
     assert_int_equal(s->fw.state, MC_STATE_RUN);
     assert_true(fabs(s->plant.omega_m_rad_s - OMEGA_REF) <= 0.05 * OMEGA_REF);
     assert_int_equal(b.e2e_errors, 0);
@@ -308,17 +318,10 @@ static void test_speed_timeout_param(void **state)
 /* RUN, then no command until COMM_TIMEOUT latches, then Enable 0. */
 static void run_then_time_out(bench_t *b)
 {
-    const uint32_t cmd_every = (uint32_t)lround(CMD_EVERY_S / b->ts);
     deliver(b, can_cmd_mode(NODE, 1u));
     deliver(b, can_cmd_speed(NODE, (float)OMEGA_REF));
     deliver(b, can_cmd_enable(NODE, true));
-    for (uint32_t k = 0; k < (uint32_t)lround(0.1 / b->ts); ++k) {
-        if (k > 0u && k % cmd_every == 0u) {
-            deliver(b, can_cmd_speed(NODE, (float)OMEGA_REF));
-        }
-        (void)step(b);
-    }
-    assert_int_equal(sim_engine_last(b->e)->fw.state, MC_STATE_RUN);
+    assert_int_equal(run_commanded(b, 0.1)->fw.state, MC_STATE_RUN);
     steps(b, (uint32_t)lround(0.15 / b->ts));
     assert_int_equal(sim_engine_last(b->e)->fw.state, MC_STATE_FAULT);
     deliver(b, can_cmd_enable(NODE, false));
@@ -361,15 +364,8 @@ static void test_apply_refused(void **state)
     deliver(&b, clear);
     steps(&b, 20u);
     assert_int_equal(sim_engine_last(b.e)->fw.state, MC_STATE_IDLE);
-    const uint32_t cmd_every = (uint32_t)lround(CMD_EVERY_S / b.ts);
     deliver(&b, can_cmd_enable(NODE, true));
-    for (uint32_t k = 0; k < (uint32_t)lround(0.15 / b.ts); ++k) {
-        if (k > 0u && k % cmd_every == 0u) {
-            deliver(&b, can_cmd_speed(NODE, (float)OMEGA_REF));
-        }
-        s = step(&b);
-        assert_int_equal(s->fw.faults_latched, 0u);
-    }
+    s = run_commanded(&b, 0.15);
     assert_int_equal(s->fw.state, MC_STATE_RUN);
     assert_true(fabs(s->plant.omega_m_rad_s - OMEGA_REF) <= 0.05 * OMEGA_REF);
     assert_int_equal(b.n_rsp_error, 0);

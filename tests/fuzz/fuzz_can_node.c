@@ -35,6 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fuzz_check.h"
 #include "hal_host.h"
 #include "mc/app.h"
 #include "mc/can_e2e.h"
@@ -42,13 +43,6 @@
 
 #define CHUNK      14u
 #define MAX_FRAMES 400u
-
-#define CHECK(c)                                                                                   \
-    do {                                                                                           \
-        if (!(c)) {                                                                                \
-            abort();                                                                               \
-        }                                                                                          \
-    } while (0)
 
 static hal_sim_mailbox_t mb;
 static mc_app_t app;

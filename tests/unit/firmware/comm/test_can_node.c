@@ -90,11 +90,10 @@ static void assert_unchanged(const snapshot_t *s)
     assert_int_equal(s->last_valid, bench.node.last_valid_ticks);
 }
 
-/* Deliver one frame of our node, poll, expect exactly one rejection of
- * `cause` answered by Rsp_Error, and nothing changed. */
-static void expect_rsp_error(uint32_t msg, uint8_t dlc, const uint8_t *data, uint32_t cause)
+/* Deliver one frame of our node and poll: it was taken, not accepted,
+ * and counted once under `cause`; its reply. */
+static hal_can_frame_t send_rejected(uint32_t msg, uint8_t dlc, const uint8_t *data, uint32_t cause)
 {
-    const snapshot_t s = snap();
     const mc_can_counters_t before = bench.node.counters;
     bench_drain(&bench);
     bench_send(&bench, msg, dlc, data);
@@ -105,7 +104,15 @@ static void expect_rsp_error(uint32_t msg, uint8_t dlc, const uint8_t *data, uin
     for (uint32_t k = 0; k < MC_CAN_REJ_COUNT; ++k) {
         assert_int_equal(c->rejected[k], before.rejected[k] + (k == cause ? 1u : 0u));
     }
-    const hal_can_frame_t r = bench_reply(&bench);
+    return bench_reply(&bench);
+}
+
+/* Deliver one frame of our node, poll, expect exactly one rejection of
+ * `cause` answered by Rsp_Error, and nothing changed. */
+static void expect_rsp_error(uint32_t msg, uint8_t dlc, const uint8_t *data, uint32_t cause)
+{
+    const snapshot_t s = snap();
+    const hal_can_frame_t r = send_rejected(msg, dlc, data, cause);
     assert_rsp_error(&bench, &r, msg, cause, dlc > 8u ? 8u : dlc);
     bench_assert_no_reply(&bench);
     assert_unchanged(&s);
@@ -263,17 +270,7 @@ static rsp_param_t expect_rsp_param_reject(uint32_t msg, uint8_t dlc, const uint
                                            uint32_t cause, uint32_t status)
 {
     const snapshot_t s = snap();
-    const mc_can_counters_t before = bench.node.counters;
-    bench_drain(&bench);
-    bench_send(&bench, msg, dlc, data);
-    bench_poll(&bench);
-    const mc_can_counters_t *c = mc_can_node_counters(&bench.node);
-    assert_int_equal(c->rx_frames, before.rx_frames + 1u);
-    assert_int_equal(c->rx_accepted, before.rx_accepted);
-    for (uint32_t k = 0; k < MC_CAN_REJ_COUNT; ++k) {
-        assert_int_equal(c->rejected[k], before.rejected[k] + (k == cause ? 1u : 0u));
-    }
-    const hal_can_frame_t r = bench_reply(&bench);
+    const hal_can_frame_t r = send_rejected(msg, dlc, data, cause);
     const rsp_param_t p = decode_rsp_param(&bench, &r);
     assert_int_equal(p.status, status);
     bench_assert_no_reply(&bench);
