@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything the project needs on a Debian 12 machine:
 #  - Debian packages (compilers, cmocka, cJSON, QEMU, GNU parallel, clang
-#    for the libFuzzer harness, can-utils, ...)
+#    for the libFuzzer harness, can-utils, what tools/vm/gpio_sim_build.sh
+#    builds a kernel module with, ...)
 #  - a Python virtual environment in .venv/ with the PyPI packages of tools/
 # Idempotent: prints nothing and changes nothing when all is present.
 set -euo pipefail
@@ -18,6 +19,7 @@ debian_packages=(
   clang libclang-rt-14-dev
   can-utils
   qemu-system-x86 busybox-static cpio kmod
+  make libelf1 xz-utils
 )
 # From bookworm-backports (the v2 API of libgpiod: 2.1.3; bookworm has 1.6).
 backports_packages=(libgpiod-dev gpiod)

@@ -21,6 +21,14 @@
 #                  the host's scheduling no longer shows in the guest's time.
 #                  One vCPU (QEMU 7.2 does not bring up a second one under
 #                  -icount; the Linux boot stops in SMP bring-up)
+#   --gpio-sim     a simulated GPIO chip in the VM (implies --vm): the kernel's
+#                  gpio-sim module, built once into the cache
+#                  (tools/vm/gpio_sim_build.sh), with one chip of 8 lines made
+#                  through configfs; the command gets PMSM_GPIO_SIM_CHIP (its
+#                  /dev/gpiochipN), PMSM_GPIO_SIM_SYSFS (its sysfs directory:
+#                  sim_gpioK/pull sets line K's level unless the line is an
+#                  output, sim_gpioK/value reads it) and PMSM_GPIO_SIM_LINES;
+#                  configfs is mounted at /sys/kernel/config
 #   --prepare      only build the cache (kernel + initramfs) and stop
 #   --verbose      say which path runs, the cache, and the VM's boot time
 #
@@ -31,7 +39,9 @@
 # only its vmlinuz and the modules the VM needs kept, and the busybox
 # initramfs built from tools/vm/init.sh. Needs qemu-system-x86_64,
 # busybox (static), cpio, gzip, depmod/modprobe (kmod), apt-get and dpkg
-# (tools/setup.sh installs them).
+# (tools/setup.sh installs them). With --gpio-sim also the modules of
+# tools/vm/gpio_sim_build.sh (downloaded and built once, about 30 s) and an
+# initramfs with them.
 #
 # Exit status: the command's; 124 when the time limit ends the run; 125 when
 # the VM cannot be prepared or ends without the command's status.
@@ -41,7 +51,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 me="tools/vm/run.sh"
 
-out= timeout_s=300 force= icount= smp=2 smp_set=0 mem=1024 prepare_only=0 verbose=0
+out= timeout_s=300 force= icount= smp=2 smp_set=0 mem=1024 prepare_only=0 verbose=0 gpio_sim=0
 while [ $# -gt 0 ]; do
     case "$1" in
     --out) out=$2; shift 2 ;;
@@ -52,6 +62,7 @@ while [ $# -gt 0 ]; do
     --icount) icount=$2; shift 2 ;;
     --mem) mem=$2; shift 2 ;;
     --prepare) prepare_only=1; shift ;;
+    --gpio-sim) gpio_sim=8; shift ;;
     --verbose) verbose=1; shift ;;
     -h | --help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     --) shift; break ;;
@@ -69,6 +80,10 @@ case "$icount" in '' | [0-9]) ;; *) echo "$me: --icount takes a shift 0..9" >&2;
 if [ -n "$icount" ]; then
     [ "$smp_set" = 0 ] || [ "$smp" = 1 ] || { echo "$me: --icount runs one vCPU (--smp 1)" >&2; exit 2; }
     smp=1
+fi
+if [ $gpio_sim != 0 ]; then
+    [ "$force" != native ] || { echo "$me: --gpio-sim runs in the VM (not with --native)" >&2; exit 2; }
+    force=vm
 fi
 
 die() { echo "$me: $*" >&2; exit 125; }
@@ -117,7 +132,7 @@ mkdir -p "$cache" || die "cannot create the cache $cache"
 say "cache $cache"
 
 kver=$(apt-cache depends linux-image-amd64 2>/dev/null |
-    sed -n 's/^ *Depends: linux-image-\([0-9].*-amd64\)$/\1/p' | head -n 1)
+    sed -n 's/^ *Depends: linux-image-\([0-9].*-amd64\)$/\1/p' | head -n 1 || true)
 if [ -z "$kver" ]; then
     # no package lists: the newest kernel already in the cache
     kver=$(ls -d "$cache"/kernel-*/ 2>/dev/null | sed 's|.*/kernel-\(.*\)/$|\1|' | sort -V | tail -n 1)
@@ -161,10 +176,28 @@ if [ ! -f "$kdir/vmlinuz" ]; then
     trap - EXIT
 fi
 
+# --gpio-sim: the simulator's modules (built once per kernel and builder)
+# and an initramfs of its own with them
+moddirs=("$kdir")
+variant=
+if [ $gpio_sim != 0 ]; then
+    gdir=$kdir/gpio-sim
+    builder_id=$(sha256sum "$here/gpio_sim_build.sh" | cut -c1-16)
+    if [ "$(cut -d' ' -f2 "$gdir/version" 2>/dev/null)" != "$builder_id" ]; then
+        say "building the gpio-sim modules for $kver"
+        "$here/gpio_sim_build.sh" "$kver" "$gdir" || die "cannot build gpio-sim for $kver (above)"
+    fi
+    moddirs+=("$gdir")
+    variant=gpiosim-
+fi
+
 busybox=$(command -v busybox)
 bb_id=$(ls -lL "$busybox" | awk '{print $5}')
-initrd_id=$( (cat "$here/init.sh" "$kdir/modules.order"; echo "$bb_id") | sha256sum | cut -c1-16)
-initrd=$cache/initrd-$kver-$initrd_id.cpio.gz
+order=()
+for d in "${moddirs[@]}"; do order+=("$d/modules.order"); done
+initrd_id=$( (cat "$here/init.sh" "${order[@]}"; echo "$bb_id"; [ -z "$variant" ] || cat "$gdir/version") |
+    sha256sum | cut -c1-16)
+initrd=$cache/initrd-$variant$kver-$initrd_id.cpio.gz
 if [ ! -f "$initrd" ]; then
     say "building the initramfs"
     ldd "$busybox" >/dev/null 2>&1 && die "$busybox is not static (install busybox-static)"
@@ -178,10 +211,11 @@ if [ ! -f "$initrd" ]; then
     cp "$here/init.sh" "$tmp/r/init"
     chmod 755 "$tmp/r/init"
     cp "$kdir"/modules/*.ko "$tmp/r/modules/"
-    cp "$kdir/modules.order" "$tmp/r/modules.order"
+    [ -z "$variant" ] || cp "$gdir"/*.ko "$tmp/r/modules/"
+    cat "${order[@]}" >"$tmp/r/modules.order"
     (cd "$tmp/r" && find . | LC_ALL=C sort | cpio -o -H newc --quiet | gzip -1) >"$tmp/initrd" ||
         die "cpio of the initramfs failed"
-    rm -f "$cache"/initrd-"$kver"-*.cpio.gz
+    rm -f "$cache"/initrd-"$variant$kver"-*.cpio.gz
     mv "$tmp/initrd" "$initrd"
     rm -rf "$tmp"
     trap - EXIT
@@ -208,6 +242,7 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM HUP
 printf '%s\n' "$out" >"$run/outdir"
+[ $gpio_sim = 0 ] || echo "$gpio_sim" >"$run/gpio_sim"
 pwd=$(pwd -P)
 # a tmpfs over /tmp hides the host's /tmp: not when the checkout or the
 # caller's directory is there
@@ -227,6 +262,7 @@ q() { printf "'%s'" "$(printf '%s' "$1" | sed "s/'/'\\\\''/g")"; }
     done < <(env -0)
     [ "$(cat "$run/tmpfs_tmp")" = 1 ] || echo 'export TMPDIR=/dev/shm'
     echo 'export PMSM_VM=1'
+    [ $gpio_sim = 0 ] || echo '. "$(dirname "$0")/gpio_sim.env" || exit 125'
     printf 'cd %s || exit 125\n' "$(q "$pwd")"
     printf 'exec /bin/sh -c %s\n' "$(q "$cmd")"
 } >"$run/guest.sh"
