@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The whole test suite from zero: set-up, the Cortex-M4F build (with its size
-# report), the host build under ASan+UBSan with its tests, then the optimised
-# host build with its tests.
+# report) and the Cortex-M3 build with their QEMU tests, the host build under
+# ASan+UBSan with its tests, then the optimised host build with its tests.
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo"
 tools/setup.sh
 cmake --workflow --preset m4f
+cmake --workflow --preset m3
 cmake --workflow --preset host-asan
 cmake --workflow --preset host
