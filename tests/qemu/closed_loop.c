@@ -2,6 +2,16 @@
 #include "closed_loop.h"
 
 #include "qemu_m4.h"
+#include "semihost.h"
+
+#define SEMIHOST_SYS_READC 0x07u
+
+volatile qemu_loop_report_t qemu_loop_report = { UINT32_MAX, 0u, 0u, 0u };
+
+__attribute__((noinline)) void qemu_loop_report_begin(void)
+{
+    __asm volatile("" ::: "memory");
+}
 
 void qemu_loop_plant_default(plant_config_t *pc, double t_load_s, double tau_L_Nm)
 {
@@ -60,6 +70,9 @@ int qemu_loop_init(qemu_loop_t *l, const char *title, const plant_config_t *pc,
     isr_stats_reset(&l->run_slow);
     l->t_run_s = -1.0;
     l->fw_cost_max_s = 0.0f;
+    l->isr_index = 0u;
+    l->reported = 0u;
+    l->report_state = 0;
     l->s = sim_engine_last(&l->engine);
     return 0;
 }
@@ -71,6 +84,40 @@ static void print_at(const char *what, double t_s)
     qemu_m4_puts(what);
 }
 
+/* The ISR report (closed_loop.h): one line for the ISR just run, or the
+ * mark before the first reported ISR. 0 or QEMU_LOOP_STOPPED. */
+static int report(qemu_loop_t *l, uint32_t index, uint32_t n, const char *cls)
+{
+    if (l->report_state == 1) {
+        qemu_m4_puts("ISR ");
+        qemu_m4_put_u32(index);
+        qemu_m4_puts(" ");
+        qemu_m4_put_u32(n);
+        qemu_m4_puts(" ");
+        qemu_m4_puts(cls);
+        qemu_m4_puts("\n");
+        l->reported++;
+    }
+    if (l->report_state == 1 && l->reported >= qemu_loop_report.count) {
+        l->report_state = 2;
+        qemu_m4_puts("ISR report done\n");
+        if (qemu_loop_report.stop != 0u) {
+            qemu_m4_puts("STOP after the ISR report\n");
+            return QEMU_LOOP_STOPPED;
+        }
+    }
+    if (l->report_state == 0 && l->s->fw.state == MC_STATE_RUN &&
+        l->run_fast.n + l->run_slow.n >= qemu_loop_report.skip) {
+        l->report_state = qemu_loop_report.count > 0u ? 1 : 2;
+        if (qemu_loop_report.wait != 0u) {
+            qemu_m4_puts("ISR report: waiting\n");
+            (void)semihost_call(SEMIHOST_SYS_READC, 0u);
+        }
+        qemu_loop_report_begin();
+    }
+    return 0;
+}
+
 int qemu_loop_step(qemu_loop_t *l, const mc_command_t *cmd)
 {
     const mc_state_t before = l->s->fw.state;
@@ -80,6 +127,8 @@ int qemu_loop_step(qemu_loop_t *l, const mc_command_t *cmd)
     const sim_trace_sample_t *s = sim_engine_last(&l->engine);
     l->s = s;
     const uint32_t n = isr_meter_last();
+    const uint32_t index = l->isr_index++;
+    const char *cls = "other";
     if (s->fw.state != before) {
         qemu_m4_puts("state ");
         qemu_m4_put_u32((uint32_t)s->fw.state);
@@ -93,19 +142,27 @@ int qemu_loop_step(qemu_loop_t *l, const mc_command_t *cmd)
     }
     if (before == MC_STATE_RUN && s->fw.state == MC_STATE_RUN) {
         isr_stats_add(s->fw.slow_loop_ran ? &l->run_slow : &l->run_fast, n);
+        cls = s->fw.slow_loop_ran ? "run_slow" : "run_fast";
         if (s->fw.isr_cost_s > l->fw_cost_max_s) {
             l->fw_cost_max_s = s->fw.isr_cost_s;
         }
     } else if (s->fw.state == MC_STATE_CALIBRATING) {
         isr_stats_add(&l->calib, n);
+        cls = "calib";
     } else if (s->fw.state == MC_STATE_ALIGN) {
         isr_stats_add(&l->align, n);
+        cls = "align";
     }
     if (l->t_run_s < 0.0 && s->fw.state == MC_STATE_RUN) {
         l->t_run_s = s->t_s;
         qemu_loop_check("t_run_s", l->t_run_s, 5u);
     }
-    return 0;
+    return report(l, index, n, cls);
+}
+
+static double mean(const isr_stats_t *s)
+{
+    return s->n ? (double)s->sum / (double)s->n : 0.0;
 }
 
 int qemu_loop_finish(const qemu_loop_t *l)
@@ -122,6 +179,15 @@ int qemu_loop_finish(const qemu_loop_t *l)
     qemu_loop_check("run_slow_max_instr", (double)l->run_slow.max, 0u);
     qemu_loop_check("run_slow_count", (double)l->run_slow.n, 0u);
     qemu_loop_check("run_fast_count", (double)l->run_fast.n, 0u);
+    qemu_loop_check("run_fast_mean_instr", mean(&l->run_fast), 3u);
+    qemu_loop_check("run_slow_mean_instr", mean(&l->run_slow), 3u);
+    const uint32_t run_n = l->run_fast.n + l->run_slow.n;
+    qemu_loop_check("run_max_instr",
+                    (double)(l->run_fast.max > l->run_slow.max ? l->run_fast.max : l->run_slow.max), 0u);
+    qemu_loop_check("run_mean_instr",
+                    run_n ? (double)(l->run_fast.sum + l->run_slow.sum) / (double)run_n : 0.0, 3u);
+    qemu_loop_check("isr_meter_errors", (double)isr_meter_errors(), 0u);
+    qemu_loop_check("mc_app_bytes", (double)sizeof l->engine.app, 0u);
     qemu_loop_check("fw_self_max_instr", (double)l->fw_cost_max_s * (double)QEMU_M4_CORE_HZ, 0u);
     if (l->s->fw.isr_overruns != 0u) {
         return qemu_loop_fail("ISR overrun");

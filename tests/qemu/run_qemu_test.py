@@ -5,8 +5,18 @@ The image prints "CHECK <key> <value>" lines over semihosting and exits via
 semihosting with a status. This script requires that status and compares
 the values: --expect "key value tol" (|x - value| <= tol), --max "key limit"
 (x <= limit). Every key named must have been printed exactly once.
+
+--budget FILE --budget-image NAME: the ISR instruction budget
+(tests/qemu/isr_budget.json, entry NAME, "instructions"): for each group
+there (run = all RUN ISRs, run_fast = without the outer-loop tick,
+run_slow = with it) the image's run_<group>_max_instr and
+run_<group>_mean_instr (run: run_max_instr, run_mean_instr) must not
+exceed the file's max and mean by more than the file's tolerance (2 %).
+The comparison is printed; values more than that BELOW the budget are
+noted (the file may then be lowered, with a reason).
 """
 import argparse
+import json
 import re
 import subprocess
 import sys
@@ -21,6 +31,8 @@ def main() -> int:
     ap.add_argument("--timeout", type=float, default=120.0)
     ap.add_argument("--expect", action="append", default=[])
     ap.add_argument("--max", action="append", default=[])
+    ap.add_argument("--budget", help="ISR budget file (tests/qemu/isr_budget.json)")
+    ap.add_argument("--budget-image", help="the image's entry in the budget file")
     ap.add_argument("image")
     a = ap.parse_args()
 
@@ -78,7 +90,40 @@ def main() -> int:
         good = x <= float(limit)
         print(f"{'ok  ' if good else 'FAIL'} {key} = {x:g} <= {float(limit):g}")
         ok = ok and good
+    if a.budget:
+        ok = check_budget(a.budget, a.budget_image, get) and ok
     return 0 if ok else 1
+
+
+def check_budget(path, image, get):
+    """The instruction budget of `image` (module docstring); True if kept."""
+    budget = json.load(open(path))
+    tol = float(budget["tolerance"])
+    entry = budget["images"].get(image)
+    if entry is None:
+        print(f"FAIL no entry {image} in {path}")
+        return False
+    print(f"ISR instruction budget ({path}, {image}; limit +{tol * 100:g} %; "
+          f"reason of the entry: {entry['reason']})")
+    ok = True
+    for group, b in entry["instructions"].items():
+        prefix = "run" if group == "run" else group
+        for stat in ("max", "mean"):
+            key = f"{prefix}_{stat}_instr"
+            x = get(key)
+            if x is None:
+                ok = False
+                continue
+            limit = b[stat] * (1.0 + tol)
+            rel = (x - b[stat]) / b[stat] * 100.0
+            good = x <= limit
+            note = ""
+            if x < b[stat] * (1.0 - tol):
+                note = " (more than the tolerance below: the budget may be lowered)"
+            print(f"{'ok  ' if good else 'FAIL'} budget {key} = {x:.7g}, budget {b[stat]:.7g} "
+                  f"({rel:+.2f} %){note}")
+            ok = ok and good
+    return ok
 
 
 if __name__ == "__main__":
