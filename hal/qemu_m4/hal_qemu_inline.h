@@ -27,11 +27,11 @@ extern hal_sim_mailbox_t *hal_qemu_mailbox;
 extern uint32_t hal_qemu_cc_last_raw;
 extern uint32_t hal_qemu_cc_ticks;
 
-#define HAL_SIM_ACCESSOR static inline
+#define HAL_SIM_ACCESSOR static inline __attribute__((always_inline))
 #define HAL_SIM_MAILBOX  hal_qemu_mailbox
 #include "hal_sim_accessors.h"
 
-static inline uint32_t hal_cycle_counter(void)
+static inline __attribute__((always_inline)) uint32_t hal_cycle_counter(void)
 {
     const uint32_t raw = qemu_m4_systick();
     hal_qemu_cc_ticks += qemu_m4_ticks_between(hal_qemu_cc_last_raw, raw);
