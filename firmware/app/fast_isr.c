@@ -4,6 +4,7 @@
  * RUN and ALIGN is control_path.c. */
 #include <math.h>
 #include <stdatomic.h>
+#include <string.h>
 
 #include "app_internal.h"
 #include "dispatch.h"
@@ -202,29 +203,31 @@ void mc_app_fast_isr(mc_app_t *app)
     /* Sample (converted at this period's sampling instant). */
     hal_adc_sample_t adc;
     hal_adc_read(&adc);
-    mc_telemetry_t t = {
-        .v_dc_V = adc.v_dc_V,
-        .duty_abc = { MC_DUTY_ZERO_VOLTAGE, MC_DUTY_ZERO_VOLTAGE,
-                      MC_DUTY_ZERO_VOLTAGE },
-    };
+    /* The telemetry record is written in place under its sequence
+     * counter (odd while this ISR writes it: mc_app_get_telemetry). */
+    app->tlm_seq = app->tlm_seq + 1u;
+    atomic_signal_fence(memory_order_seq_cst);
+    mc_telemetry_t *const t = &app->tlm;
+    memset(t, 0, sizeof *t);
+    t->v_dc_V = adc.v_dc_V;
     for (uint32_t k = 0u; k < 3u; ++k) {
-        t.i_abc_A[k] = adc.i_abc_A[k] - app->i_offset_A[k];
+        t->i_abc_A[k] = adc.i_abc_A[k] - app->i_offset_A[k];
     }
     mc_frame_t fr; /* every field set before use (no zeroing cost) */
     fr.in.encoder_count = hal_encoder_count();
-    t.encoder_count = fr.in.encoder_count;
+    t->encoder_count = fr.in.encoder_count;
     fr.in.v_applied = &app->v_applied;
     fr.in.running = (app->state == MC_STATE_RUN);
     fr.in.theta_e_hold_rad = mc_align_theta_e_f32(&app->align);
-    mc_clarke_f32(t.i_abc_A[0], t.i_abc_A[1], t.i_abc_A[2], &fr.in.i_alpha_A,
+    mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &fr.in.i_alpha_A,
                   &fr.in.i_beta_A);
 
     /* Protect and estimate: the causes present now. Under-voltage is not
      * checked in IDLE (the bus may be legitimately down while the drive is
      * off); in FAULT it is, so a clear waits for the bus to recover. */
     const bool check_uv = (app->state != MC_STATE_IDLE);
-    uint32_t active = mc_faults_check_sample(&app->cfg.protection, t.i_abc_A,
-                                             t.v_dc_V, check_uv);
+    uint32_t active = mc_faults_check_sample(&app->cfg.protection, t->i_abc_A,
+                                             t->v_dc_V, check_uv);
     if (hal_gpio_fault_input_active()) {
         active |= MC_FAULT_EXTERNAL;
     }
@@ -234,39 +237,40 @@ void mc_app_fast_isr(mc_app_t *app)
     if (app->overrun_streak >= app->timing.isr_overrun_limit) {
         active |= MC_FAULT_ISR_OVERRUN; /* still overrunning */
     }
-    active |= estimate(app, &fr, &t);
+    active |= estimate(app, &fr, t);
     /* sin / cos of the controller's angle; measured d/q currents (Park)
      * for control and telemetry. */
-    mc_sincos_f32(t.theta_e_rad, &fr.s, &fr.c);
-    mc_park_f32(fr.in.i_alpha_A, fr.in.i_beta_A, fr.s, fr.c, &t.i_d_A,
-                &t.i_q_A);
+    mc_sincos_f32(t->theta_e_rad, &fr.s, &fr.c);
+    mc_park_f32(fr.in.i_alpha_A, fr.in.i_beta_A, fr.s, fr.c, &t->i_d_A,
+                &t->i_q_A);
     const bool running = (app->state == MC_STATE_RUN);
     active |= mc_supervisor_step(
-        &app->supervisor, &t, running, running || app->state == MC_STATE_ALIGN,
+        &app->supervisor, t, running, running || app->state == MC_STATE_ALIGN,
         mc_current_limit_active_f32(&app->drive.limit));
-    active |= check_estimate(app, &fr, &t, running);
-    raise_faults(app, active, &t);
+    active |= check_estimate(app, &fr, t, running);
+    raise_faults(app, active, t);
 
     /* Transitions, calibration, control. */
-    state_machine(app, cmd, adc.i_abc_A, active, &fr, &t);
+    state_machine(app, cmd, adc.i_abc_A, active, &fr, t);
 
     /* Write: duties for the next period, or everything off. The voltage
      * they apply is recorded for the observers (mc/delay_comp.h). */
     if (app->state == MC_STATE_RUN || app->state == MC_STATE_ALIGN) {
-        hal_pwm_set_duties(t.duty_abc);
+        hal_pwm_set_duties(t->duty_abc);
         hal_pwm_enable_outputs();
         hal_gpio_power_stage_enable(true);
     } else {
         outputs_off();
         for (uint32_t k = 0u; k < 3u; ++k) {
-            t.duty_abc[k] = MC_DUTY_ZERO_VOLTAGE;
+            t->duty_abc[k] = MC_DUTY_ZERO_VOLTAGE;
         }
-        hal_pwm_set_duties(t.duty_abc);
-        t.v_alpha_V = 0.0f;
-        t.v_beta_V = 0.0f;
+        hal_pwm_set_duties(t->duty_abc);
+        t->v_alpha_V = 0.0f;
+        t->v_beta_V = 0.0f;
     }
     /* Finite here: checked in the control path, zero otherwise. */
-    (void)mc_applied_voltage_push_f32(&app->v_applied, t.v_alpha_V, t.v_beta_V);
+    (void)mc_applied_voltage_push_f32(&app->v_applied, t->v_alpha_V,
+                                      t->v_beta_V);
 
     /* Deadline check: counted; the limit-th consecutive overrun is a
      * fault, PWM off in this ISR. */
@@ -280,25 +284,26 @@ void mc_app_fast_isr(mc_app_t *app)
         app->overrun_streak++;
         if (app->overrun_streak >= app->timing.isr_overrun_limit) {
             active |= MC_FAULT_ISR_OVERRUN;
-            raise_faults(app, MC_FAULT_ISR_OVERRUN, &t);
+            raise_faults(app, MC_FAULT_ISR_OVERRUN, t);
         }
     } else {
         app->overrun_streak = 0u;
     }
     hal_gpio_debug_pin_set(false);
 
-    t.isr_count = app->isr_count;
-    t.state = app->state;
-    t.mode = cmd->mode;
-    t.faults_latched = app->faults_latched;
-    t.first_fault = app->first_fault;
-    t.faults_active = active;
-    t.outputs_enabled = hal_pwm_outputs_enabled();
-    t.isr_cost_s = app->isr_cost_s;
-    t.isr_cost_max_s = app->isr_cost_max_s;
-    t.isr_overruns = app->isr_overruns;
+    t->isr_count = app->isr_count;
+    t->state = app->state;
+    t->mode = cmd->mode;
+    t->faults_latched = app->faults_latched;
+    t->first_fault = app->first_fault;
+    t->faults_active = active;
+    t->outputs_enabled = hal_pwm_outputs_enabled();
+    t->isr_cost_s = app->isr_cost_s;
+    t->isr_cost_max_s = app->isr_cost_max_s;
+    t->isr_overruns = app->isr_overruns;
     for (uint32_t k = 0u; k < 3u; ++k) {
-        t.i_offset_abc_A[k] = app->i_offset_A[k];
+        t->i_offset_abc_A[k] = app->i_offset_A[k];
     }
-    mc_app_publish_telemetry(app, &t);
+    atomic_signal_fence(memory_order_seq_cst);
+    app->tlm_seq = app->tlm_seq + 1u; /* even: complete */
 }

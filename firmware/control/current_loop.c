@@ -96,20 +96,18 @@ void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
 
 /* One axis: the PI output is limited to the room the feed-forward leaves
  * within +-v_lim_V (anti-windup, mc/pi.h), *v_V = PI(error) + ff. *sat
- * tells that the PI sits on a limit. MC_ERR_NONFINITE when the limits are
- * not a finite interval. */
-static mc_status_t axis_step(mc_pi_f32_t *pi, float v_lim_V, float ff_V,
-                             float error_A, float *v_V, bool *sat)
+ * tells that the PI sits on a limit. The limits are finite and ordered
+ * whenever the inputs are finite (v_lim_V > 0); a non-finite input
+ * reaches *v_V, which the caller checks. */
+static void axis_step(mc_pi_f32_t *pi, float v_lim_V, float ff_V, float error_A,
+                      float *v_V, bool *sat)
 {
     const float lo = -v_lim_V - ff_V;
     const float hi = v_lim_V - ff_V;
-    if (mc_pi_set_limits_f32(pi, lo, hi) != MC_OK) {
-        return MC_ERR_NONFINITE;
-    }
+    mc_pi_set_limits_unchecked_f32(pi, lo, hi);
     const float u = mc_pi_step_f32(pi, error_A);
     *v_V = u + ff_V;
     *sat = (u <= lo) || (u >= hi);
-    return MC_OK;
 }
 
 mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl, float i_d_A,
@@ -135,10 +133,7 @@ mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl, float i_d_A,
     /* d axis first: the PI may use what the feed-forward leaves. */
     float v_d;
     bool sat_d;
-    if (axis_step(&cl->pi_d, v_max, ff_d, i_d_ref_A - i_d_A, &v_d, &sat_d) !=
-        MC_OK) {
-        return MC_ERR_NONFINITE;
-    }
+    axis_step(&cl->pi_d, v_max, ff_d, i_d_ref_A - i_d_A, &v_d, &sat_d);
 
     /* q axis: the rest of the circle. */
     const float room_sq = v_max * v_max - v_d * v_d;
@@ -147,10 +142,7 @@ mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl, float i_d_A,
         (room_sq > room_min * room_min) ? sqrtf(room_sq) : room_min;
     float v_q;
     bool sat_q;
-    if (axis_step(&cl->pi_q, v_q_max, ff_q, i_q_ref_A - i_q_A, &v_q, &sat_q) !=
-        MC_OK) {
-        return MC_ERR_NONFINITE;
-    }
+    axis_step(&cl->pi_q, v_q_max, ff_q, i_q_ref_A - i_q_A, &v_q, &sat_q);
 
     if (!isfinite(v_d) || !isfinite(v_q)) {
         return MC_ERR_NONFINITE;

@@ -38,7 +38,6 @@ mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min, float out_max)
     if (!(out_min < out_max)) {
         return MC_ERR_PARAM;
     }
-    pi->out_min = out_min;
-    pi->out_max = out_max;
+    mc_pi_set_limits_unchecked_f32(pi, out_min, out_max);
     return MC_OK;
 }

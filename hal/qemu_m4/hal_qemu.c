@@ -29,9 +29,9 @@
 __attribute__((used)) const uint32_t qemu_m4_icount_shift =
     QEMU_M4_ICOUNT_SHIFT;
 
-static hal_sim_mailbox_t *bound;
-static uint32_t cc_last_raw; /* SysTick value at the previous call */
-static uint32_t cc_ticks;    /* extended counter */
+hal_sim_mailbox_t *hal_qemu_mailbox;
+uint32_t hal_qemu_cc_last_raw;
+uint32_t hal_qemu_cc_ticks;
 
 void qemu_m4_counter_init(void)
 {
@@ -39,36 +39,28 @@ void qemu_m4_counter_init(void)
     SYST_RVR = SYST_RELOAD;
     SYST_CVR = 0u; /* any write clears: counting starts at the reload */
     SYST_CSR = SYST_CSR_ENABLE | SYST_CSR_CLKSOURCE_CPU;
-    cc_last_raw = qemu_m4_systick();
-    cc_ticks = 0u;
+    hal_qemu_cc_last_raw = qemu_m4_systick();
+    hal_qemu_cc_ticks = 0u;
 }
 
 /* ---- Mailbox binding (hal_sim_mailbox.h): one per image ----------------- */
 
 void hal_sim_bind(hal_sim_mailbox_t *mailbox)
 {
-    bound = mailbox;
+    hal_qemu_mailbox = mailbox;
 }
 
 hal_sim_mailbox_t *hal_sim_bound(void)
 {
-    if (bound == NULL) {
+    if (hal_qemu_mailbox == NULL) {
         semihost_puts("FATAL: HAL called with no mailbox bound\n");
         semihost_exit(QEMU_M4_EXIT_FAULT);
     }
-    return bound;
+    return hal_qemu_mailbox;
 }
 
 /* ---- Cycle counter ---------------------------------------------------------
  */
-
-uint32_t hal_cycle_counter(void)
-{
-    const uint32_t raw = qemu_m4_systick();
-    cc_ticks += qemu_m4_ticks_between(cc_last_raw, raw);
-    cc_last_raw = raw;
-    return cc_ticks;
-}
 
 uint32_t hal_cycle_counter_hz(void)
 {

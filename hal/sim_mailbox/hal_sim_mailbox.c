@@ -9,6 +9,14 @@
 #include "hal/pwm.h"
 #include "hal/time.h"
 
+/* The ISR-path functions: here on the host's bound mailbox; an image with
+ * HAL_INLINE_ACCESSORS has them static inline from the HAL headers. */
+#ifndef HAL_INLINE_ACCESSORS
+#define HAL_SIM_ACCESSOR
+#define HAL_SIM_MAILBOX hal_sim_bound()
+#include "hal_sim_accessors.h"
+#endif
+
 #define HAL_SIM_NS_PER_S 1000000000u
 
 void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox)
@@ -40,50 +48,11 @@ hal_status_t hal_pwm_init(float f_pwm_Hz, hal_pwm_timing_t *timing)
     return HAL_OK;
 }
 
-void hal_pwm_set_duties(const float duty_abc[3])
-{
-    hal_sim_mailbox_t *m = hal_sim_bound();
-    for (unsigned k = 0u; k < 3u; ++k) {
-        float d = duty_abc[k];
-        if (!(d >= 0.0f)) {
-            d = isnan(d) ? 0.5f : 0.0f; /* contract: protect the hardware */
-        } else if (d > 1.0f) {
-            d = 1.0f;
-        }
-        m->duty_abc[k] = d;
-    }
-}
-
-void hal_pwm_enable_outputs(void)
-{
-    hal_sim_bound()->pwm_outputs_enabled = true;
-}
-
-void hal_pwm_disable_outputs(void)
-{
-    hal_sim_bound()->pwm_outputs_enabled = false;
-}
-
-bool hal_pwm_outputs_enabled(void)
-{
-    return hal_sim_bound()->pwm_outputs_enabled;
-}
-
 /* ---- ADC, encoder, GPIO -------------------------------------------------- */
-
-void hal_adc_read(hal_adc_sample_t *out)
-{
-    *out = hal_sim_bound()->adc;
-}
 
 uint32_t hal_encoder_counts_per_rev(void)
 {
     return hal_sim_bound()->encoder_cpr;
-}
-
-uint32_t hal_encoder_count(void)
-{
-    return hal_sim_bound()->encoder_count;
 }
 
 bool hal_encoder_index(uint32_t *count_at_index)
@@ -93,21 +62,6 @@ bool hal_encoder_index(uint32_t *count_at_index)
         *count_at_index = m->encoder_count_at_index;
     }
     return m->encoder_index_seen;
-}
-
-bool hal_gpio_fault_input_active(void)
-{
-    return hal_sim_bound()->fault_input_active;
-}
-
-void hal_gpio_power_stage_enable(bool enable)
-{
-    hal_sim_bound()->power_stage_enabled = enable;
-}
-
-void hal_gpio_debug_pin_set(bool level)
-{
-    hal_sim_bound()->debug_pin = level;
 }
 
 /* ---- Time (the cycle counter is the backend's) --------------------------- */

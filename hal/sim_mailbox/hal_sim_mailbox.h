@@ -23,14 +23,17 @@
  * the rest: where the binding is kept (hal_sim_bind, hal_sim_bound) and
  * the cycle counter (hal_cycle_counter, hal_cycle_counter_hz).
  */
+/* The HAL types first, outside the guard: with HAL_INLINE_ACCESSORS,
+ * hal/adc.h includes the binding's accessors, which include this header
+ * for the mailbox type. */
+#include "hal/adc.h"
+#include "hal/can.h"
+
 #ifndef HAL_SIM_MAILBOX_H
 #define HAL_SIM_MAILBOX_H
 
 #include <stdbool.h>
 #include <stdint.h>
-
-#include "hal/adc.h"
-#include "hal/can.h"
 
 #define HAL_SIM_CAN_QUEUE_LEN 64u /* frames per direction */
 

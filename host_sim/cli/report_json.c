@@ -9,8 +9,6 @@
 
 #include "hal_host.h"
 
-#define ISR_COST_METHOD HAL_HOST_CYCLE_COUNTER_METHOD
-
 /* value, or null when unavailable (the reason goes to `unavailable`). */
 static void add_metric(cJSON *metrics, cJSON *unavailable, const char *key, double value,
                        sim_metrics_status_t status)
@@ -201,7 +199,7 @@ static cJSON *build_json(const char *scenario_file, const scenario_t *s, const r
     cJSON *isr = cJSON_AddObjectToObject(root, "isr_cost");
     cJSON_AddNumberToObject(isr, "mean_s", res->isr_cost_mean_s);
     cJSON_AddNumberToObject(isr, "max_s", res->isr_cost_max_s);
-    cJSON_AddStringToObject(isr, "method", ISR_COST_METHOD);
+    cJSON_AddStringToObject(isr, "method", hal_host_cycle_counter_method());
 
     add_phases(root, res);
     add_faults(root, res, rep->time_offset_s);

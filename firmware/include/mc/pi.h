@@ -62,6 +62,16 @@ void mc_pi_reset_f32(mc_pi_f32_t *pi, float integrator);
  * limits or out_min >= out_max (state untouched). Interrupt context: yes. */
 mc_status_t mc_pi_set_limits_f32(mc_pi_f32_t *pi, float out_min, float out_max);
 
+/* The same without the checks, for an ISR path whose limits are finite and
+ * ordered by construction; a NaN limit leaves the output unlimited, so such
+ * a path checks what it computes from the output. Interrupt context: yes. */
+static inline void mc_pi_set_limits_unchecked_f32(mc_pi_f32_t *pi,
+                                                  float out_min, float out_max)
+{
+    pi->out_min = out_min;
+    pi->out_max = out_max;
+}
+
 /* One controller sample; returns the limited output u_k. Interrupt context:
  * yes, bounded time, no division. */
 static inline float mc_pi_step_f32(mc_pi_f32_t *pi, float error)

@@ -19,9 +19,13 @@ typedef struct {
     bool temp_valid;  /* false when the board has no temperature sensor */
 } hal_adc_sample_t;
 
+#ifdef HAL_INLINE_ACCESSORS
+#include HAL_INLINE_ACCESSORS /* the binding's static inline definitions */
+#else
 /* Read the samples converted at this period's PWM centre.
  * out: non-NULL. Interrupt context: yes (it is meant for the
  * fast ISR; elsewhere it returns the latest completed conversion). */
 void hal_adc_read(hal_adc_sample_t *out);
+#endif
 
 #endif /* HAL_ADC_H */

@@ -6,6 +6,9 @@
 
 #include <stdbool.h>
 
+#ifdef HAL_INLINE_ACCESSORS
+#include HAL_INLINE_ACCESSORS /* the binding's static inline definitions */
+#else
 /* True while the external fault / safe-torque-off input is asserted (gate
  * driver fault, STO chain open, e-stop). Interrupt context:
  * yes. */
@@ -19,5 +22,6 @@ void hal_gpio_power_stage_enable(bool enable);
 /* Set the debug pin (scope timing of the ISR). Callable from interrupt
  * context: yes. */
 void hal_gpio_debug_pin_set(bool level);
+#endif
 
 #endif /* HAL_GPIO_H */

@@ -40,6 +40,9 @@ typedef struct {
  * (HAL_ERR_PARAM, *timing untouched). Interrupt context: no. */
 hal_status_t hal_pwm_init(float f_pwm_Hz, hal_pwm_timing_t *timing);
 
+#ifdef HAL_INLINE_ACCESSORS
+#include HAL_INLINE_ACCESSORS /* the binding's static inline definitions */
+#else
 /* Write the three duty cycles (phase a, b, c), each the high-side on-time as a
  * fraction of the period in [0, 1]. They take effect at the next period.
  * Out-of-range or non-finite values are a caller bug: the backend clamps them
@@ -57,5 +60,6 @@ void hal_pwm_disable_outputs(void);
 
 /* True while the outputs are enabled. Interrupt context: yes. */
 bool hal_pwm_outputs_enabled(void);
+#endif
 
 #endif /* HAL_PWM_H */

@@ -15,11 +15,15 @@ uint64_t hal_time_ticks(void);
  * yes. */
 uint32_t hal_time_tick_hz(void);
 
+#ifdef HAL_INLINE_ACCESSORS
+#include HAL_INLINE_ACCESSORS /* the binding's static inline definitions */
+#else
 /* Free-running 32-bit cycle counter (wraps; compute differences with
  * unsigned subtraction). On a Cortex-M it is DWT->CYCCNT; on the host it is
  * the host's monotonic clock in ns (see hal/host). Callable from interrupt
  * context: yes; cost a few cycles. */
 uint32_t hal_cycle_counter(void);
+#endif
 
 /* Frequency of hal_cycle_counter in Hz, > 0. Callable from interrupt
  * context: yes. */
