@@ -331,6 +331,19 @@ def image_size(elf):
     return {"text": int(line[0]), "data": int(line[1]), "bss": int(line[2])}
 
 
+def restricted_depth(funcs, graph, su, keep, title):
+    """The deepest stack of the call graph with only the calls for which
+    keep(callee) holds; printed under `title`. (bytes, [names])."""
+    g = {n: {"calls": {c for c in g["calls"] if keep(c)},
+             "tails": {c for c in g["tails"] if keep(c)},
+             "indirect": g["indirect"]} for n, g in graph.items()}
+    d, path, _ = stack_depth(funcs, g, su)
+    print(f"{title}: {d} bytes")
+    for name, fr, src in path:
+        print(f"  {fr:5d}  {name}  ({src})")
+    return d, [n for n, _, _ in path]
+
+
 def firmware_size(mapfile, prefix="firmware/"):
     """text/data/bss of the input sections linked from archives whose path
     starts with `prefix` (after --gc-sections: the memory map part)."""
@@ -865,14 +878,11 @@ def main():
     # configured so (the budget file's stack_optional, with its reason)
     optional = set(a.optional)
     if optional:
-        g_req = {n: {"calls": g["calls"] - optional, "tails": g["tails"] - optional,
-                     "indirect": g["indirect"]} for n, g in graph.items()}
-        d_req, p_req, _ = stack_depth(funcs, g_req, su)
-        print(f"ISR stack, static without the calls into {sorted(optional)}: {d_req} bytes")
-        for name, fr, src in p_req:
-            print(f"  {fr:5d}  {name}  ({src})")
+        d_req, p_req = restricted_depth(
+            funcs, graph, su, lambda c: c not in optional,
+            f"ISR stack, static without the calls into {sorted(optional)}")
         values["stack"]["static_required_bytes"] = d_req
-        values["stack"]["static_required_path"] = [n for n, _, _ in p_req]
+        values["stack"]["static_required_path"] = p_req
 
     # -- sizes
     img = image_size(a.elf)
@@ -986,14 +996,11 @@ def main():
         # to the end of the window): the static graph restricted to the
         # functions entered
         ran = {name_at(x) for x in entered} | called
-        g_ran = {n: {"calls": g["calls"] & ran, "tails": g["tails"] & ran,
-                     "indirect": g["indirect"]} for n, g in graph.items()}
-        d_ran, p_ran, _ = stack_depth(funcs, g_ran, su)
-        print(f"ISR stack along the functions the ISRs ran ({len(ran)}): {d_ran} bytes")
-        for name, fr, src in p_ran:
-            print(f"  {fr:5d}  {name}  ({src})")
+        d_ran, p_ran = restricted_depth(
+            funcs, graph, su, lambda c: c in ran,
+            f"ISR stack along the functions the ISRs ran ({len(ran)})")
         values["stack"]["ran_bytes"] = d_ran
-        values["stack"]["ran_path"] = [n for n, _, _ in p_ran]
+        values["stack"]["ran_path"] = p_ran
 
     # -- the budget
     if entry:

@@ -54,8 +54,8 @@ static void calibrate(void)
                      "ldr %3, [%6]\n\t"
                      "ldr %4, [%6]\n\t"
                      "ldr %5, [%6]"
-                     : "=&r"(r[0]), "=&r"(r[1]), "=&r"(r[2]), "=&r"(r[3]), "=&r"(r[4]),
-                       "=&r"(r[5])
+                     : "=&r"(r[0]), "=&r"(r[1]), "=&r"(r[2]), "=&r"(r[3]),
+                       "=&r"(r[4]), "=&r"(r[5])
                      : "r"(0xE000E018u)
                      : "memory");
     for (uint32_t c = 0u; c < NS_PER_INSTR && !phase_known; c++) {
@@ -117,17 +117,17 @@ void __wrap_mc_app_fast_isr(mc_app_t *app)
     register uint32_t addr __asm__("r4") = 0xE000E018u;
     register uint32_t t0 __asm__("r5");
     register uint32_t t1 __asm__("r6");
-#define METER_CALL                                                                \
-    "ldr %0, [%3]\n\t"                                                           \
-    "bl __real_mc_app_fast_isr\n\t"                                              \
+#define METER_CALL                                                             \
+    "ldr %0, [%3]\n\t"                                                         \
+    "bl __real_mc_app_fast_isr\n\t"                                            \
     "ldr %1, [%3]"
 #if defined(__ARM_FP)
     __asm__ volatile(METER_CALL
                      : "=&r"(t0), "=&r"(t1), "+r"(a0)
                      : "r"(addr)
-                     : "r1", "r2", "r3", "r12", "lr", "cc", "memory", "s0", "s1", "s2",
-                       "s3", "s4", "s5", "s6", "s7", "s8", "s9", "s10", "s11", "s12",
-                       "s13", "s14", "s15");
+                     : "r1", "r2", "r3", "r12", "lr", "cc", "memory", "s0",
+                       "s1", "s2", "s3", "s4", "s5", "s6", "s7", "s8", "s9",
+                       "s10", "s11", "s12", "s13", "s14", "s15");
 #else
     __asm__ volatile(METER_CALL
                      : "=&r"(t0), "=&r"(t1), "+r"(a0)

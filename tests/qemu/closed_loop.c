@@ -183,7 +183,8 @@ int qemu_loop_finish(const qemu_loop_t *l)
     qemu_loop_check("run_slow_mean_instr", mean(&l->run_slow), 3u);
     const uint32_t run_n = l->run_fast.n + l->run_slow.n;
     qemu_loop_check("run_max_instr",
-                    (double)(l->run_fast.max > l->run_slow.max ? l->run_fast.max : l->run_slow.max), 0u);
+                    (double)(l->run_fast.max > l->run_slow.max ? l->run_fast.max : l->run_slow.max),
+                    0u);
     qemu_loop_check("run_mean_instr",
                     run_n ? (double)(l->run_fast.sum + l->run_slow.sum) / (double)run_n : 0.0, 3u);
     qemu_loop_check("isr_meter_errors", (double)isr_meter_errors(), 0u);

@@ -66,9 +66,9 @@ typedef struct {
     isr_stats_t calib, align, run_fast, run_slow;
     double t_run_s; /* time of the first RUN sample; < 0 before */
     float fw_cost_max_s;
-    uint32_t isr_index;     /* ISRs so far (sim_engine_step calls) */
-    uint32_t reported;      /* ISRs reported so far */
-    int report_state;       /* 0 before, 1 during, 2 after the report */
+    uint32_t isr_index; /* ISRs so far (sim_engine_step calls) */
+    uint32_t reported;  /* ISRs reported so far */
+    int report_state;   /* 0 before, 1 during, 2 after the report */
 } qemu_loop_t;
 
 /* The plant's defaults (plant_config_default: paper-001 motor, 48 V,
