@@ -1,6 +1,7 @@
 /* The control path of the RUN and ALIGN states: the selected controller,
  * the shared current loop, the modulator with the delay compensation, the
  * output checks (see mc/app.h). */
+#include <float.h>
 #include <math.h>
 
 #include "app_internal.h"
@@ -29,11 +30,13 @@ static uint32_t modulate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
     float v_al;
     float v_be;
     mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
-    mc_svpwm_out_f32_t pwm;
-    if (mc_svpwm_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm) !=
-        MC_OK) {
+    /* The bus here, the duties in check_outputs: the modulator itself runs
+     * unchecked (a non-finite voltage gives non-finite duties). */
+    if (!(t->v_dc_V >= FLT_MIN)) {
         return mc_drive_voltage_fault(t->v_dc_V);
     }
+    mc_svpwm_out_f32_t pwm;
+    mc_svpwm_unchecked_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm);
     t->v_alpha_V = pwm.v_alpha_V;
     t->v_beta_V = pwm.v_beta_V;
     for (uint32_t k = 0u; k < 3u; ++k) {

@@ -40,23 +40,14 @@ static phase_spread_t phase_spread(float v_alpha_V, float v_beta_V)
     return p;
 }
 
-mc_status_t mc_svpwm_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
-                         mc_svpwm_limit_t limit, mc_svpwm_out_f32_t *out)
+/* The modulator proper on the command's phase spread p: the limit, the
+ * common-mode offset, the duties and the voltage applied (all of *out but
+ * the sector). */
+static void modulate_spread(phase_spread_t p, float v_alpha_V, float v_beta_V,
+                            float v_dc_V, mc_svpwm_limit_t limit,
+                            mc_svpwm_out_f32_t *out)
 {
-    if (!isfinite(v_alpha_V) || !isfinite(v_beta_V) || !isfinite(v_dc_V)) {
-        return MC_ERR_NONFINITE;
-    }
-    if (!(v_dc_V >= FLT_MIN)) { /* <= 0 or denormal: 1/v_dc would overflow */
-        return MC_ERR_RANGE;
-    }
-    if (limit != MC_SVPWM_LIMIT_CIRCLE && limit != MC_SVPWM_LIMIT_HEXAGON) {
-        return MC_ERR_PARAM;
-    }
-    phase_spread_t p = phase_spread(v_alpha_V, v_beta_V);
     const float spread_V = p.v[p.i_max] - p.v[p.i_min];
-    if (!isfinite(spread_V)) {
-        return MC_ERR_RANGE; /* finite command too large for float */
-    }
     /* Overmodulation: the command normalised by its (finite, > 0) phase
      * spread, times a factor k that puts it on the boundary. Working with
      * the normalised vector avoids overflow of |v|^2 and underflow of a
@@ -99,9 +90,35 @@ mc_status_t mc_svpwm_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
         d = (d < 0.0f) ? 0.0f : ((d > 1.0f) ? 1.0f : d);
         out->duty[i] = d;
     }
-    out->sector = sector_by_max_min[p.i_max][p.i_min];
     out->overmodulated = overmodulated;
     out->v_alpha_V = v_alpha_V;
     out->v_beta_V = v_beta_V;
+}
+
+void mc_svpwm_unchecked_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
+                            mc_svpwm_limit_t limit, mc_svpwm_out_f32_t *out)
+{
+    modulate_spread(phase_spread(v_alpha_V, v_beta_V), v_alpha_V, v_beta_V,
+                    v_dc_V, limit, out);
+}
+
+mc_status_t mc_svpwm_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
+                         mc_svpwm_limit_t limit, mc_svpwm_out_f32_t *out)
+{
+    if (!isfinite(v_alpha_V) || !isfinite(v_beta_V) || !isfinite(v_dc_V)) {
+        return MC_ERR_NONFINITE;
+    }
+    if (!(v_dc_V >= FLT_MIN)) { /* <= 0 or denormal: 1/v_dc would overflow */
+        return MC_ERR_RANGE;
+    }
+    if (limit != MC_SVPWM_LIMIT_CIRCLE && limit != MC_SVPWM_LIMIT_HEXAGON) {
+        return MC_ERR_PARAM;
+    }
+    const phase_spread_t p = phase_spread(v_alpha_V, v_beta_V);
+    if (!isfinite(p.v[p.i_max] - p.v[p.i_min])) {
+        return MC_ERR_RANGE; /* finite command too large for float */
+    }
+    modulate_spread(p, v_alpha_V, v_beta_V, v_dc_V, limit, out);
+    out->sector = sector_by_max_min[p.i_max][p.i_min];
     return MC_OK;
 }

@@ -4,12 +4,14 @@
 #include <math.h>
 
 #include "mc/angle.h"
+#include "mc/finite.h"
 
 #include "reset_angle.h"
 
-static int all_finite4(float a, float b, float c, float d)
+static bool all_finite4(float a, float b, float c, float d)
 {
-    return isfinite(a) && isfinite(b) && isfinite(c) && isfinite(d);
+    const float x[] = { a, b, c, d };
+    return mc_all_finite_f32(x, 4u);
 }
 
 mc_status_t mc_flux_obs_init_f32(mc_flux_obs_f32_t *obs,

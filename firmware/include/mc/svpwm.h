@@ -58,4 +58,12 @@ typedef struct {
 mc_status_t mc_svpwm_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
                          mc_svpwm_limit_t limit, mc_svpwm_out_f32_t *out);
 
+/* The same without the argument checks and the sector (out->sector is not
+ * written), for an ISR path that checks the bus voltage before (finite,
+ * >= FLT_MIN) and the duties after: a non-finite or overflowing command
+ * gives non-finite duties there instead of an error here. Interrupt
+ * context: yes. */
+void mc_svpwm_unchecked_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
+                            mc_svpwm_limit_t limit, mc_svpwm_out_f32_t *out);
+
 #endif /* MC_SVPWM_H */

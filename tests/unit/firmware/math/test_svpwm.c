@@ -197,6 +197,37 @@ static void test_svpwm_rejects_bad_input(void **state)
     assert_rejected(1.0f, 1.0f, 24.0f, (mc_svpwm_limit_t)7, MC_ERR_PARAM);
 }
 
+/* The unchecked variant (the ISR path's) computes exactly what the checked
+ * one does for every valid command, and what the ISR's output check relies
+ * on for an invalid one: a non-finite or overflowing command reaches the
+ * duties as a non-finite value (never a clamped, finite one). */
+static void test_svpwm_unchecked_matches_and_propagates(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(7);
+    for (int n = 0; n < N_RANDOM; n++) {
+        const command_t c = random_command(&rng, 0.0, 3.0);
+        const float a = (float)(c.mag * cos(c.psi));
+        const float b = (float)(c.mag * sin(c.psi));
+        mc_svpwm_out_f32_t checked;
+        mc_svpwm_out_f32_t unchecked;
+        memset(&checked, 0, sizeof checked); /* padding equal too */
+        memset(&unchecked, 0, sizeof unchecked);
+        assert_int_equal(mc_svpwm_f32(a, b, (float)c.v_dc, c.limit, &checked), MC_OK);
+        unchecked.sector = checked.sector; /* not written by the variant */
+        mc_svpwm_unchecked_f32(a, b, (float)c.v_dc, c.limit, &unchecked);
+        assert_memory_equal(&checked, &unchecked, sizeof checked);
+    }
+    const float bad[][2] = {
+        { NAN, 1.0f }, { 1.0f, NAN }, { INFINITY, 0.0f }, { 3e38f, -3e38f }, { -3e38f, 3e38f }
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        mc_svpwm_out_f32_t o;
+        mc_svpwm_unchecked_f32(bad[i][0], bad[i][1], 300.0f, MC_SVPWM_LIMIT_CIRCLE, &o);
+        assert_false(isfinite(o.duty[0]) && isfinite(o.duty[1]) && isfinite(o.duty[2]));
+    }
+}
+
 static void test_svpwm_zero_vector(void **state)
 {
     (void)state;
@@ -218,6 +249,7 @@ int main(void)
         cmocka_unit_test(test_svpwm_hexagon_region_is_reproduced),
         cmocka_unit_test(test_svpwm_rejects_bad_input),
         cmocka_unit_test(test_svpwm_zero_vector),
+        cmocka_unit_test(test_svpwm_unchecked_matches_and_propagates),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
