@@ -16,17 +16,11 @@
  * inverter will apply. */
 static uint32_t modulate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
 {
-    float s = fr->s;
-    float c = fr->c;
-    if (app->delay_comp.enabled) {
-        const float theta_v =
-            mc_delay_comp_angle_f32(&app->delay_comp, t->theta_e_rad,
-                                    app->drive.n_p * t->omega_m_rad_s);
-        if (!isfinite(theta_v)) {
-            return MC_FAULT_NONFINITE;
-        }
-        mc_sincos_f32(theta_v, &s, &c);
-    }
+    float s;
+    float c;
+    mc_delay_comp_sincos_f32(&app->delay_comp, t->theta_e_rad,
+                             app->drive.n_p * t->omega_m_rad_s, fr->s, fr->c,
+                             &s, &c);
     float v_al;
     float v_be;
     mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);

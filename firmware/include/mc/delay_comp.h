@@ -19,7 +19,7 @@
  *    by omega_e Ts, and the interval's mean rotation is that of its centre
  *    (the averaged rotor-frame voltage is the centre's times
  *    sinc(omega_e Ts / 2) ~ 1). So the inverse Park uses
- *      theta_v = wrap(theta_e_hat + omega_e_hat * d * Ts).
+ *      theta_v = theta_e_hat + omega_e_hat * d * Ts.
  *    Disabled: theta_v = theta_e_hat (its closed-loop effect is measured
  *    later on the bench).
  * 2) Voltage applied over the last sample interval [t_{k-1}, t_k], needed by
@@ -68,18 +68,40 @@ static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
     dc->enabled = enabled;
 }
 
-/* Angle for the inverse Park of the voltage computed now:
- * wrap(theta_e_rad + omega_e_rad_s * d * Ts) if enabled, else theta_e_rad
- * unchanged. NaN for non-finite inputs or |theta| beyond
- * MC_ANGLE_MAX_ABS_RAD when enabled. Interrupt context: yes. */
-static inline float mc_delay_comp_angle_f32(const mc_delay_comp_f32_t *dc,
+/* |omega_e d Ts| up to which the advance is a rotation by a short series
+ * (below), rad: 3300 rad/s electrical at 20 kHz with d = 1.5. */
+#define MC_DELAY_SERIES_MAX_RAD 0.25f
+
+/* Sine and cosine of the angle for the inverse Park of the voltage computed
+ * now, theta_v = theta_e_rad + omega_e_rad_s * d * Ts if enabled, else
+ * theta_e_rad, given s_e, c_e = sin, cos of theta_e_rad. For
+ * |omega_e d Ts| <= MC_DELAY_SERIES_MAX_RAD, (s_e, c_e) rotated by the
+ * advance with its sine and cosine from their Taylor series to the 5th and
+ * 6th power (remainders below 1.2e-8 and 4e-10, under float32's
+ * resolution); beyond, mc_sincos_f32 of the sum. NaN for non-finite
+ * inputs when enabled. Interrupt context: yes. */
+static inline void mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc,
                                             float theta_e_rad,
-                                            float omega_e_rad_s)
+                                            float omega_e_rad_s, float s_e,
+                                            float c_e, float *s_v, float *c_v)
 {
     if (!dc->enabled) {
-        return theta_e_rad;
+        *s_v = s_e;
+        *c_v = c_e;
+        return;
     }
-    return mc_wrap_pi_f32(theta_e_rad + omega_e_rad_s * dc->advance_s);
+    const float delta = omega_e_rad_s * dc->advance_s;
+    if (fabsf(delta) <= MC_DELAY_SERIES_MAX_RAD) { /* false for NaN */
+        const float d2 = delta * delta;
+        const float s_d =
+            delta * (1.0f - d2 * (1.0f / 6.0f - d2 * (1.0f / 120.0f)));
+        const float c_d =
+            1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f - d2 * (1.0f / 720.0f)));
+        *s_v = s_e * c_d + c_e * s_d;
+        *c_v = c_e * c_d - s_e * s_d;
+        return;
+    }
+    mc_sincos_f32(theta_e_rad + delta, s_v, c_v);
 }
 
 typedef struct {

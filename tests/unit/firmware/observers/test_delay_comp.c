@@ -1,9 +1,11 @@
 /*
  * PWM / computation delay helpers (mc/delay_comp.h):
- * - the advanced angle makes the voltage, averaged over the interval where
- *   it is really applied and seen in the true rotor frame, point where it
- *   was commanded (analytic average of the rotation over the interval);
- *   without the advance it lags by omega_e d Ts;
+ * - the advanced angle (its sine and cosine: a rotation by a series for
+ *   small advances, a sine and cosine of the sum beyond) makes the voltage,
+ *   averaged over the interval where it is really applied and seen in the
+ *   true rotor frame, point where it was commanded (analytic average of the
+ *   rotation over the interval); without the advance it lags by
+ *   omega_e d Ts;
  * - the applied-voltage history returns the exact mean over the last
  *   sample interval of the piecewise-constant applied voltage (integrated
  *   independently here on a fine grid), for the documented timings;
@@ -40,47 +42,66 @@ static void mean_rotor_frame_voltage(double theta0, double w, double t0, double 
     out[1] = -C * x + S * y;
 }
 
+/* theta_v of the advance from its sine and cosine (double). */
+static double advanced_angle(const mc_delay_comp_f32_t *dc, float theta, float w)
+{
+    float s_v;
+    float c_v;
+    mc_delay_comp_sincos_f32(dc, theta, w, sinf(theta), cosf(theta), &s_v, &c_v);
+    assert_near(hypot(s_v, c_v), 1.0, 1e-6);
+    return atan2((double)s_v, (double)c_v);
+}
+
 static void test_advance_aligns_applied_voltage(void **state)
 {
     (void)state;
     test_rng_t rng = test_rng_seed(15);
-    for (int i = 0; i < 2000; i++) {
+    for (int i = 0; i < 4000; i++) {
         const double d = (i % 4 == 0) ? 1.5 : (i % 4 == 1) ? 1.0 : test_rng_range(&rng, 0.5, 1.5);
         const double theta = test_rng_range(&rng, -MC_TEST_PI, MC_TEST_PI);
-        const double w = test_rng_range(&rng, -3000.0, 3000.0); /* rad/s el. */
+        /* rad/s el.: advances up to 0.75 rad, both sides of the series' limit */
+        const double w = test_rng_range(&rng, -10000.0, 10000.0);
         const double vd = test_rng_range(&rng, -50.0, 50.0);
         const double vq = test_rng_range(&rng, -50.0, 50.0);
         for (int en = 0; en <= 1; en++) {
             mc_delay_comp_f32_t dc;
             assert_int_equal(mc_delay_comp_init_f32(&dc, (float)TS, (float)d, en), MC_OK);
-            const float theta_v = mc_delay_comp_angle_f32(&dc, (float)theta, (float)w);
+            const double theta_v = advanced_angle(&dc, (float)theta, (float)w);
             /* the command computed at the sample t = 0 acts over
              * [(d - 1/2) Ts, (d + 1/2) Ts] */
             double seen[2];
-            mean_rotor_frame_voltage(theta, w, (d - 0.5) * TS, (double)theta_v, vd, vq, seen);
+            mean_rotor_frame_voltage(theta, w, (d - 0.5) * TS, theta_v, vd, vq, seen);
             const double err = remainder(atan2(seen[1], seen[0]) - atan2(vq, vd), MC_TEST_TWO_PI);
             if (en) {
-                /* float32 angle: |theta| ulp + the wrap, about 1e-6 rad */
+                /* float32 sine and cosine: about 1e-6 rad */
                 assert_true(fabs(err) < 2e-6);
                 /* magnitude: sinc(w Ts / 2) */
                 const double sinc = sin(w * TS / 2.0) / (w * TS / 2.0);
                 assert_near(hypot(seen[0], seen[1]), sinc * hypot(vd, vq), 1e-4 * hypot(vd, vq));
             } else {
-                assert_true(theta_v == (float)theta);
+                assert_near(remainder(theta_v - (double)(float)theta, MC_TEST_TWO_PI), 0.0, 2e-7);
                 assert_near(err, -w * d * TS, 2e-6);
             }
         }
     }
-    /* switchable at run time */
+    /* switchable at run time; disabled, the given sine and cosine as they are */
     mc_delay_comp_f32_t dc;
     assert_int_equal(mc_delay_comp_init_f32(&dc, (float)TS, 1.5f, false), MC_OK);
-    assert_true(mc_delay_comp_angle_f32(&dc, 1.0f, 1000.0f) == 1.0f);
+    float s_v;
+    float c_v;
+    mc_delay_comp_sincos_f32(&dc, 1.0f, 1000.0f, 0.25f, 0.5f, &s_v, &c_v);
+    assert_true(s_v == 0.25f && c_v == 0.5f);
     mc_delay_comp_enable_f32(&dc, true);
-    assert_near(mc_delay_comp_angle_f32(&dc, 1.0f, 1000.0f), 1.0 + 1000.0 * 1.5 * TS, 1e-6);
-    /* wraps */
-    assert_near(mc_delay_comp_angle_f32(&dc, 3.14f, 1000.0f), 3.14 + 0.075 - MC_TEST_TWO_PI, 1e-6);
-    assert_true(isnan(mc_delay_comp_angle_f32(&dc, NAN, 1000.0f)));
-    assert_true(isnan(mc_delay_comp_angle_f32(&dc, 0.0f, INFINITY)));
+    assert_near(advanced_angle(&dc, 1.0f, 1000.0f), 1.0 + 1000.0 * 1.5 * TS, 1e-6);
+    /* past pi */
+    assert_near(advanced_angle(&dc, 3.14f, 1000.0f), 3.14 + 0.075 - MC_TEST_TWO_PI, 1e-6);
+    /* non-finite inputs: NaN, in the series and beyond it */
+    const float bad[][2] = { { NAN, 1000.0f }, { 0.0f, INFINITY }, { 0.0f, NAN } };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        mc_delay_comp_sincos_f32(&dc, bad[k][0], bad[k][1], sinf(bad[k][0]), cosf(bad[k][0]), &s_v,
+                                 &c_v);
+        assert_true(isnan(s_v) && isnan(c_v));
+    }
 }
 
 /* Applied voltage: commands v_j (one per ISR j, at t_j = j Ts) hold on
