@@ -4,7 +4,7 @@
 # mc_add_qemu_image(<name> SOURCES <src>... [LIBS <lib>...]
 #                   [DEFINITIONS <def>...])
 #   An ELF image <name> linked with the mps2-an386 linker script, the
-#   startup/semihosting/HAL binding (mc_hal_qemu_m4) and
+#   startup/semihosting/HAL binding (MC_QEMU_HAL_LIB, mc_hal_qemu_m4) and
 #   -Wl,--wrap=mc_app_fast_isr (per-ISR instruction counts, isr_meter.h).
 #   Prints its size after the build.
 #
@@ -12,7 +12,8 @@
 #                  [EXPECT "<key> <value> <abs_tol>"]...
 #                  [MAX "<key> <limit>"]... [BUDGET <file>])
 #   ctest (label qemu) that runs the image under
-#   qemu-system-arm -M mps2-an386 -icount shift=MC_QEMU_ICOUNT_SHIFT,align=off,sleep=off
+#   qemu-system-arm -M MC_QEMU_MACHINE (mps2-an386)
+#   -icount shift=MC_QEMU_ICOUNT_SHIFT,align=off,sleep=off
 #   through tests/qemu/run_qemu_test.py: the exit status must equal
 #   EXIT_STATUS (default 0); each "CHECK <key> <value>" line the image
 #   prints is compared: |value - expected| <= tol (EXPECT) or value <= limit
@@ -41,6 +42,11 @@ if(MC_QEMU_ICOUNT_SHIFT LESS 6 OR MC_QEMU_ICOUNT_SHIFT GREATER 10)
   message(FATAL_ERROR "MC_QEMU_ICOUNT_SHIFT must be in [6, 10] (hal/qemu_m4/qemu_m4.h)")
 endif()
 set(MC_QEMU_LINKER_SCRIPT ${PROJECT_SOURCE_DIR}/hal/qemu_m4/mps2_an386.ld)
+# The board QEMU runs the images on, and the image support library they
+# link (startup, semihosting, counter, ISR meter): a board port may set
+# both before it adds its images (hal/qemu_m3: mps2-an385, mc_hal_qemu_m3).
+set(MC_QEMU_MACHINE mps2-an386)
+set(MC_QEMU_HAL_LIB mc_hal_qemu_m4)
 
 # Frame sizes of the code that runs on the MCU (the firmware libraries and
 # the HAL: every target with mc_firmware_opts): GCC writes <object>.su next
@@ -61,7 +67,7 @@ function(mc_add_qemu_image name)
   # the linker script, the icount shift by nothing but tools reading the
   # ELF: -u pulls them out of the archive and keeps them through
   # --gc-sections.
-  target_link_libraries(${name} PRIVATE ${I_LIBS} mc_hal_qemu_m4 mc_warnings m)
+  target_link_libraries(${name} PRIVATE ${I_LIBS} ${MC_QEMU_HAL_LIB} mc_warnings m)
   target_link_options(${name} PRIVATE
     -nostartfiles
     -Wl,-u,qemu_m4_vectors -Wl,-u,Reset_Handler -Wl,-u,qemu_m4_icount_shift
@@ -97,8 +103,8 @@ function(mc_add_qemu_test name)
   endif()
   add_test(NAME ${name}
     COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/tests/qemu/run_qemu_test.py
-      --qemu ${MC_QEMU_SYSTEM_ARM} --icount-shift ${MC_QEMU_ICOUNT_SHIFT}
-      --exit-status ${T_EXIT_STATUS} --timeout ${T_TIMEOUT}
+      --qemu ${MC_QEMU_SYSTEM_ARM} --machine ${MC_QEMU_MACHINE}
+      --icount-shift ${MC_QEMU_ICOUNT_SHIFT} --exit-status ${T_EXIT_STATUS} --timeout ${T_TIMEOUT}
       ${checks} $<TARGET_FILE:${T_IMAGE}>)
   set_tests_properties(${name} PROPERTIES LABELS qemu
     TIMEOUT ${T_TIMEOUT})

@@ -26,6 +26,7 @@ import time
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--qemu", default="qemu-system-arm")
+    ap.add_argument("--machine", default="mps2-an386", help="QEMU -M (the board)")
     ap.add_argument("--icount-shift", type=int, required=True)
     ap.add_argument("--exit-status", type=int, default=0)
     ap.add_argument("--timeout", type=float, default=120.0)
@@ -36,7 +37,7 @@ def main() -> int:
     ap.add_argument("image")
     a = ap.parse_args()
 
-    cmd = [a.qemu, "-M", "mps2-an386", "-nographic", "-monitor", "none",
+    cmd = [a.qemu, "-M", a.machine, "-nographic", "-monitor", "none",
            "-serial", "none",
            "-semihosting-config", "enable=on,target=native",
            "-icount", f"shift={a.icount_shift},align=off,sleep=off",
