@@ -48,12 +48,12 @@ mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
     app->cmd_buf[0].mode = MC_MODE_CURRENT;
     app->cmd_buf[1].mode = MC_MODE_CURRENT;
     app->cmd = app->cmd_buf[0];
-    const mc_telemetry_t t = {
+    *mc_app_tlm_begin(app) = (mc_telemetry_t){
         .state = MC_STATE_IDLE,
         .mode = MC_MODE_CURRENT,
         .duty_abc = { 0.5f, 0.5f, 0.5f },
     };
-    mc_app_publish_telemetry(app, &t);
+    mc_app_tlm_end(app);
     return MC_OK;
 }
 
@@ -71,15 +71,6 @@ mc_status_t mc_app_set_command(mc_app_t *app, const mc_command_t *cmd)
     atomic_signal_fence(memory_order_seq_cst);
     app->cmd_index = next;
     return MC_OK;
-}
-
-void mc_app_publish_telemetry(mc_app_t *app, const mc_telemetry_t *t)
-{
-    app->tlm_seq = app->tlm_seq + 1u; /* odd: writing */
-    atomic_signal_fence(memory_order_seq_cst);
-    app->tlm = *t;
-    atomic_signal_fence(memory_order_seq_cst);
-    app->tlm_seq = app->tlm_seq + 1u; /* even: complete */
 }
 
 mc_status_t mc_app_fault_history(const mc_app_t *app, mc_fault_event_t *out,

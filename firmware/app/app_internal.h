@@ -2,6 +2,8 @@
 #ifndef MC_APP_INTERNAL_H
 #define MC_APP_INTERNAL_H
 
+#include <stdatomic.h>
+
 #include "mc/app.h"
 
 /* The sample of this ISR as the estimators and the control path see it
@@ -19,10 +21,22 @@ typedef struct {
 mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
                              const mc_timing_t *tm);
 
-/* Publish a telemetry snapshot (sequence counter odd while writing).
- * Called from init and at the end of the fast ISR. Interrupt context:
- * yes. */
-void mc_app_publish_telemetry(mc_app_t *app, const mc_telemetry_t *t);
+/* Writing the telemetry record in place: begin makes the sequence counter
+ * odd and returns the record, end makes it even again (the reader's side:
+ * mc_app_get_telemetry). Used by init and by the fast ISR. Interrupt
+ * context: yes. */
+static inline mc_telemetry_t *mc_app_tlm_begin(mc_app_t *app)
+{
+    app->tlm_seq = app->tlm_seq + 1u; /* odd: writing */
+    atomic_signal_fence(memory_order_seq_cst);
+    return &app->tlm;
+}
+
+static inline void mc_app_tlm_end(mc_app_t *app)
+{
+    atomic_signal_fence(memory_order_seq_cst);
+    app->tlm_seq = app->tlm_seq + 1u; /* even: complete */
+}
 
 /* RUN begins (after the calibration, or after ALIGN): the controller and
  * the shared blocks start from zero. Interrupt context: yes. */

@@ -203,11 +203,9 @@ void mc_app_fast_isr(mc_app_t *app)
     /* Sample (converted at this period's sampling instant). */
     hal_adc_sample_t adc;
     hal_adc_read(&adc);
-    /* The telemetry record is written in place under its sequence
-     * counter (odd while this ISR writes it: mc_app_get_telemetry). */
-    app->tlm_seq = app->tlm_seq + 1u;
-    atomic_signal_fence(memory_order_seq_cst);
-    mc_telemetry_t *const t = &app->tlm;
+    /* The telemetry record, written in place under its sequence counter
+     * until the end of this ISR. */
+    mc_telemetry_t *const t = mc_app_tlm_begin(app);
     memset(t, 0, sizeof *t);
     t->v_dc_V = adc.v_dc_V;
     for (uint32_t k = 0u; k < 3u; ++k) {
@@ -304,6 +302,5 @@ void mc_app_fast_isr(mc_app_t *app)
     for (uint32_t k = 0u; k < 3u; ++k) {
         t->i_offset_abc_A[k] = app->i_offset_A[k];
     }
-    atomic_signal_fence(memory_order_seq_cst);
-    app->tlm_seq = app->tlm_seq + 1u; /* even: complete */
+    mc_app_tlm_end(app);
 }
