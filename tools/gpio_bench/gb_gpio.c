@@ -169,6 +169,20 @@ out:
     return req;
 }
 
+/* Release what a command acquired (NULL: not acquired) and close the
+ * chip. */
+static void release_line(struct gpiod_chip *chip, struct gpiod_line_settings *settings,
+                         struct gpiod_line_request *req)
+{
+    if (req != NULL) {
+        gpiod_line_request_release(req);
+    }
+    if (settings != NULL) {
+        gpiod_line_settings_free(settings);
+    }
+    gpiod_chip_close(chip);
+}
+
 int gb_gpio_sto(const gb_args_t *a, FILE *out, FILE *err)
 {
     int code = GB_EXIT_FAIL;
@@ -233,13 +247,7 @@ int gb_gpio_sto(const gb_args_t *a, FILE *out, FILE *err)
     }
     signals_restore(&sig);
 out:
-    if (req != NULL) {
-        gpiod_line_request_release(req);
-    }
-    if (settings != NULL) {
-        gpiod_line_settings_free(settings);
-    }
-    gpiod_chip_close(chip);
+    release_line(chip, settings, req);
     return code;
 }
 
@@ -317,12 +325,6 @@ out:
     if (buf != NULL) {
         gpiod_edge_event_buffer_free(buf);
     }
-    if (req != NULL) {
-        gpiod_line_request_release(req);
-    }
-    if (settings != NULL) {
-        gpiod_line_settings_free(settings);
-    }
-    gpiod_chip_close(chip);
+    release_line(chip, settings, req);
     return code;
 }
