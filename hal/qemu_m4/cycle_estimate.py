@@ -85,6 +85,11 @@ meter; the ISR's stack depth; the image's sizes; the ISR budget check.
    stack included) and, from the linker map, the input sections the image
    takes from the firmware libraries (paths under firmware/).
 
+--profile N: the N source functions that executed the most instructions
+per window ISR, each executed address attributed to the innermost function
+of its inline chain (addr2line -f -i), e.g. where an inlined block's
+instructions go inside mc_app_fast_isr.
+
 --budget FILE --image NAME: the window is the entry's estimate.window
 (unless --skip/--count), and the estimated cycles (max, mean per group)
 and the stack depths must not exceed the entry's by more than the file's
@@ -92,7 +97,7 @@ tolerance; sizes are printed beside the entry's. --json prints the values.
 
 Usage: cycle_estimate.py IMAGE.elf [--skip N] [--count M] [--su-root DIR]...
            [--optional FUNC]... [--budget FILE --image NAME] [--no-trace]
-           [--trace-from-start] [--trace-all] [--json]
+           [--trace-from-start] [--trace-all] [--json] [--profile N]
 """
 import argparse
 import json
@@ -744,7 +749,11 @@ def parse_log(stream, isr_entry, wrap_lo, wrap_hi, mark, traced):
     for (bid, k), n in execs.items():
         for mn in block_of_id[bid].mn[:k]:
             mnem[base_mnemonic(mn)] += n
-    return results, mnem, stats, entered, untraced
+    pcs = Counter()      # instruction address -> executions in the window
+    for (bid, k), n in execs.items():
+        for pc in block_of_id[bid].pcs[:k]:
+            pcs[pc] += n
+    return results, mnem, stats, entered, untraced, pcs
 
 
 # ---------------------------------------------------------------- main
@@ -809,6 +818,32 @@ def print_table(groups):
               f"{st['div_sqrt']['mean']:8.1f}")
 
 
+def print_profile(elf, pcs, n_isr, top):
+    """Instructions per ISR by source function: each executed address is
+    attributed to the innermost function of its inline chain
+    (addr2line -f -i: the first function printed for the address)."""
+    addrs = sorted(pcs)
+    out = subprocess.run(["arm-none-eabi-addr2line", "-a", "-f", "-i", "-e", elf]
+                         + [f"0x{x:x}" for x in addrs], capture_output=True,
+                         text=True, check=True).stdout.splitlines()
+    func_of = {}
+    i = 0
+    while i < len(out):
+        addr = int(out[i], 16)
+        func_of[addr] = (out[i + 1], os.path.basename(out[i + 2].split(":")[0]))
+        i += 3
+        while i < len(out) and not out[i].startswith("0x"):
+            i += 1
+    per = Counter()
+    for x, n in pcs.items():
+        per[func_of[x]] += n
+    total = sum(pcs.values())
+    print(f"profile: instructions per ISR by source function (innermost inlined), "
+          f"{total / n_isr:.1f} per ISR over {n_isr} ISRs")
+    for (fn, src), n in per.most_common(top):
+        print(f"  {n / n_isr:8.1f}  {fn}  ({src})")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("elf")
@@ -834,6 +869,10 @@ def main():
                          "file's stack_optional)")
     ap.add_argument("--no-trace", action="store_true", help="stack and sizes only")
     ap.add_argument("--json", action="store_true", help="print the values as JSON")
+    ap.add_argument("--profile", type=int, metavar="N", default=0,
+                    help="print the N source functions (inlined code resolved by "
+                         "addr2line -i: the innermost function) that executed the "
+                         "most instructions per window ISR")
     a = ap.parse_args()
     t_start = time.monotonic()
     entry = None
@@ -929,7 +968,7 @@ def main():
             ranges = merge_ranges(funcs, names)
             t0 = time.monotonic()
             try:
-                results, mnem, stats, entered, untraced, report = \
+                results, mnem, stats, entered, untraced, pcs, report = \
                     trace(a, a.elf, syms, ranges)
             except TraceError as e:
                 print(f"error: {e}")
@@ -982,6 +1021,8 @@ def main():
         print_table(groups)
         print("most executed mnemonics: " +
               ", ".join(f"{m} {n}" for m, n in mnem.most_common(12)))
+        if a.profile:
+            print_profile(a.elf, pcs, len(results), a.profile)
         est = {"window": {"skip_run": a.skip, "count": a.count}}
         for g in ("run", "run_fast", "run_slow"):
             if g in groups:
