@@ -5,7 +5,7 @@
 # Board port: hal/qemu_m3 (QEMU mps2-an385; CMakePresets.json preset m3).
 include(${CMAKE_CURRENT_LIST_DIR}/arm-none-eabi-m4f.cmake)
 
-set(MC_M3_FLAGS "-mcpu=cortex-m3 -mthumb -mfloat-abi=soft -ffunction-sections -fdata-sections")
+set(MC_M3_FLAGS "-mcpu=cortex-m3 -mthumb -mfloat-abi=soft -ffunction-sections -fdata-sections -g")
 set(CMAKE_C_FLAGS_INIT "${MC_M3_FLAGS}")
 set(CMAKE_ASM_FLAGS_INIT "${MC_M3_FLAGS}")
 unset(MC_M4F_FLAGS)

@@ -8,7 +8,7 @@ set(CMAKE_ASM_COMPILER arm-none-eabi-gcc)
 set(CMAKE_OBJCOPY arm-none-eabi-objcopy CACHE FILEPATH "objcopy")
 set(CMAKE_SIZE arm-none-eabi-size CACHE FILEPATH "size")
 
-set(MC_M4F_FLAGS "-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -ffunction-sections -fdata-sections")
+set(MC_M4F_FLAGS "-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -ffunction-sections -fdata-sections -g")
 set(CMAKE_C_FLAGS_INIT "${MC_M4F_FLAGS}")
 set(CMAKE_ASM_FLAGS_INIT "${MC_M4F_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "-Wl,--gc-sections --specs=nano.specs")

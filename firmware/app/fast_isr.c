@@ -204,9 +204,19 @@ void mc_app_fast_isr(mc_app_t *app)
     hal_adc_sample_t adc;
     hal_adc_read(&adc);
     /* The telemetry record, written in place under its sequence counter
-     * until the end of this ISR. */
+     * until the end of this ISR. It restarts from zero unless this ISR and
+     * the previous one both begin in RUN in the same mode: a steady RUN
+     * ISR writes every field its path sets (the rest keep their zero), so
+     * it spares the 152-byte clear. */
     mc_telemetry_t *const t = mc_app_tlm_begin(app);
-    memset(t, 0, sizeof *t);
+    const bool steady_run = app->state == MC_STATE_RUN &&
+                            app->tlm_entry_state == MC_STATE_RUN &&
+                            cmd->mode == app->mode;
+    app->tlm_entry_state = app->state;
+    if (!steady_run) {
+        memset(t, 0, sizeof *t);
+    }
+    t->slow_loop_ran = false; /* set by the outer loop's tick */
     t->v_dc_V = adc.v_dc_V;
     for (uint32_t k = 0u; k < 3u; ++k) {
         t->i_abc_A[k] = adc.i_abc_A[k] - app->i_offset_A[k];

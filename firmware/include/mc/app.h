@@ -122,6 +122,7 @@ typedef struct {
     /* telemetry (sequence counter: odd while the ISR writes) */
     volatile uint32_t tlm_seq;
     mc_telemetry_t tlm;
+    mc_state_t tlm_entry_state; /* state at the previous ISR's entry */
 } mc_app_t;
 
 /* Validate cfg (mc_config_validate), configure the HAL PWM (outputs off,
