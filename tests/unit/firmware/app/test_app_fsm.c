@@ -382,8 +382,7 @@ static void test_slow_loop_decimation_reported(void **state)
 static void test_steady_run_record_equals_cleared_record(void **state)
 {
     (void)state;
-    static const mc_mode_t modes[] = { MC_MODE_CURRENT, MC_MODE_SPEED,
-                                       MC_MODE_POSITION };
+    static const mc_mode_t modes[] = { MC_MODE_CURRENT, MC_MODE_SPEED, MC_MODE_POSITION };
     static mc_app_t ref;
     uint32_t compared = 0u;
     uint32_t controllers = 0u;
@@ -407,8 +406,7 @@ static void test_steady_run_record_equals_cleared_record(void **state)
             for (uint32_t n = 0; n < 60u; ++n, ++k) {
                 g_hal.adc.i_abc_A[0] = 0.2f * sinf(0.05f * (float)k);
                 g_hal.adc.i_abc_A[1] = 0.2f * sinf(0.05f * (float)k + 2.1f);
-                g_hal.adc.i_abc_A[2] =
-                    -g_hal.adc.i_abc_A[0] - g_hal.adc.i_abc_A[1];
+                g_hal.adc.i_abc_A[2] = -g_hal.adc.i_abc_A[0] - g_hal.adc.i_abc_A[1];
                 g_hal.encoder_count = (k * 3u) % g_hal.encoder_cpr;
                 assert_int_equal(mc_app_set_command(&app, &cmd), MC_OK);
                 const bool steady = app.state == MC_STATE_RUN &&
