@@ -25,7 +25,6 @@ static mc_status_t drive_init(mc_drive_t *d, const mc_config_t *c,
         .position_kp_per_s = c->position.kp_per_s,
         .omega_max_rad_s = c->limits.omega_max_rad_s,
         .i_max_A = c->limits.i_max_A,
-        .decimation = tm->slow_decimation,
     };
     st = mc_outer_loop_init_f32(&d->outer, &op);
     if (st != MC_OK) {
@@ -77,7 +76,8 @@ mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
     }
     mc_status_t st = drive_init(&app->drive, cfg, tm);
     if (st == MC_OK) {
-        st = mc_supervisor_init(&app->supervisor, &cfg->protection, tm);
+        st = mc_supervisor_init(&app->supervisor, &cfg->protection,
+                                tm->Ts_slow_s);
     }
     if (st == MC_OK) {
         const mc_emf_monitor_params_t ep = {
@@ -86,6 +86,7 @@ mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
             .psi_Wb = cfg->motor.psi_Wb,
             .Ts_s = tm->Ts_s,
             .filter_s = cfg->emf_check.filter_s,
+            .decimation = tm->slow_decimation,
         };
         st = mc_emf_check_init_f32(&app->emf, &cfg->emf_check, &ep);
     }

@@ -66,6 +66,7 @@ void mc_app_start_run(mc_app_t *app)
     d->v_q_last_V = 0.0f;
     mc_dispatch_controller_start(app);
     app->mode = app->cmd.mode;
+    app->slow_count = 0u; /* the first RUN ISR ticks */
     app->state = MC_STATE_RUN;
 }
 
@@ -81,7 +82,9 @@ uint32_t mc_app_run(mc_app_t *app, const mc_command_t *cmd,
                     const mc_frame_t *fr, mc_telemetry_t *t)
 {
     if (cmd->mode != app->mode) {
-        mc_outer_loop_restart_tick_f32(&app->drive.outer);
+        /* this ISR ticks for the slow loop, the next tick N ISRs on */
+        app->drive.outer.tick = true;
+        app->slow_count = (app->timing.slow_decimation > 1u) ? 1u : 0u;
         mc_dispatch_controller_mode_change(app, app->mode, cmd->mode, t);
         app->mode = cmd->mode;
     }

@@ -80,10 +80,11 @@ static uint32_t estimate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
            (mc_all_finite_f32(e, 4u) ? MC_FAULT_NONE : MC_FAULT_NONFINITE);
 }
 
-/* The estimate against the measured back-EMF (mc/emf_monitor.h), in RUN:
- * a sensorless estimate that turns while the rotor does not is
- * LOSS_OF_LOCK; an encoder that slipped or froze is ENCODER. fr->s, fr->c:
- * the sine and cosine of the estimate's angle. */
+/* The estimate against the measured back-EMF (mc/emf_monitor.h) over the
+ * interval before this sample, on the slow tick in RUN: a sensorless
+ * estimate that turns while the rotor does not is LOSS_OF_LOCK; an encoder
+ * that slipped or froze is ENCODER. fr->s, fr->c: the sine and cosine of
+ * the estimate's angle. */
 static uint32_t check_estimate(mc_app_t *app, const mc_frame_t *fr,
                                const mc_telemetry_t *t, bool running)
 {
@@ -197,6 +198,12 @@ void mc_app_fast_isr(mc_app_t *app)
     const uint32_t t_start = hal_cycle_counter();
     hal_gpio_debug_pin_set(true);
     app->isr_count++;
+    /* The slow tick (mc/app.h): the outer loop's and the supervision's. */
+    const bool slow_tick = (app->slow_count == 0u);
+    if (++app->slow_count >= app->timing.slow_decimation) {
+        app->slow_count = 0u;
+    }
+    app->drive.outer.tick = slow_tick;
     app->cmd = app->cmd_buf[app->cmd_index & 1u];
     const mc_command_t *cmd = &app->cmd;
 
@@ -252,10 +259,15 @@ void mc_app_fast_isr(mc_app_t *app)
     mc_park_f32(fr.in.i_alpha_A, fr.in.i_beta_A, fr.s, fr.c, &t->i_d_A,
                 &t->i_q_A);
     const bool running = (app->state == MC_STATE_RUN);
-    active |= mc_supervisor_step(
-        &app->supervisor, t, running, running || app->state == MC_STATE_ALIGN,
-        mc_current_limit_active_f32(&app->drive.limit));
-    active |= check_estimate(app, &fr, t, running);
+    if (slow_tick) {
+        app->slow_faults =
+            mc_supervisor_step(&app->supervisor, t, running,
+                               running || app->state == MC_STATE_ALIGN,
+                               mc_current_limit_active_f32(&app->drive.limit)) |
+            check_estimate(app, &fr, t, running);
+    }
+    mc_emf_monitor_remember_f32(&app->emf.mon, fr.in.i_alpha_A, fr.in.i_beta_A);
+    active |= app->slow_faults;
     raise_faults(app, active, t);
 
     /* Transitions, calibration, control. */

@@ -17,10 +17,10 @@ static bool persist(uint32_t *count, bool condition, uint32_t n)
     return *count >= n;
 }
 
-/* round(time / Ts) samples, at least one. */
-static mc_status_t samples(float time_s, float Ts_s, uint32_t *n)
+/* round(time / step) steps, at least one. */
+static mc_status_t samples(float time_s, float step_s, uint32_t *n)
 {
-    const float x = roundf(time_s / Ts_s); /* Ts > 0 (timing record) */
+    const float x = roundf(time_s / step_s); /* step > 0 checked */
     if (!(x >= 1.0f) || x > 4.0e9f) {
         return MC_ERR_PARAM;
     }
@@ -29,9 +29,11 @@ static mc_status_t samples(float time_s, float Ts_s, uint32_t *n)
 }
 
 mc_status_t mc_supervisor_init(mc_supervisor_t *sv,
-                               const mc_fault_limits_t *lim,
-                               const mc_timing_t *tm)
+                               const mc_fault_limits_t *lim, float step_s)
 {
+    if (!(step_s > 0.0f) || !isfinite(step_s)) {
+        return MC_ERR_PARAM;
+    }
     mc_supervisor_t s = {
         .overspeed_rad_s = lim->overspeed_rad_s,
         .stall_current_sq_A2 = lim->stall_current_A * lim->stall_current_A,
@@ -40,15 +42,15 @@ mc_status_t mc_supervisor_init(mc_supervisor_t *sv,
         .i2t_limit_A2s = (lim->i2t_peak_A * lim->i2t_peak_A -
                           lim->i2t_continuous_A * lim->i2t_continuous_A) *
                          lim->i2t_peak_time_s,
-        .Ts_s = tm->Ts_s,
+        .step_s = step_s,
         .sum_max_A = lim->current_sum_max_A,
     };
-    mc_status_t st = samples(lim->stall_time_s, tm->Ts_s, &s.stall_n);
+    mc_status_t st = samples(lim->stall_time_s, step_s, &s.stall_n);
     if (st == MC_OK) {
-        st = samples(lim->current_sum_time_s, tm->Ts_s, &s.sum_n);
+        st = samples(lim->current_sum_time_s, step_s, &s.sum_n);
     }
     if (st == MC_OK) {
-        st = samples(lim->current_limit_time_s, tm->Ts_s, &s.limit_n);
+        st = samples(lim->current_limit_time_s, step_s, &s.limit_n);
     }
     if (st == MC_OK && !(s.i2t_limit_A2s > 0.0f && isfinite(s.i2t_limit_A2s))) {
         st = MC_ERR_PARAM;
@@ -69,7 +71,7 @@ uint32_t mc_supervisor_step(mc_supervisor_t *sv, const mc_telemetry_t *t,
                              not corrupt the thermal state */
         /* compensated sum (valid: the project never uses -ffast-math) */
         const float y =
-            (i_sq - sv->i2t_cont_sq_A2) * sv->Ts_s - sv->i2t_comp_A2s;
+            (i_sq - sv->i2t_cont_sq_A2) * sv->step_s - sv->i2t_comp_A2s;
         const float x = sv->i2t_A2s + y;
         if (x > 0.0f) {
             sv->i2t_comp_A2s = (x - sv->i2t_A2s) - y;

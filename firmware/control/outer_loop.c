@@ -9,7 +9,7 @@ mc_status_t mc_outer_loop_init_f32(mc_outer_loop_f32_t *o,
     if (!isfinite(p->i_max_A)) {
         return MC_ERR_NONFINITE;
     }
-    if (!(p->i_max_A > 0.0f) || p->decimation < 1u) {
+    if (!(p->i_max_A > 0.0f)) {
         return MC_ERR_PARAM;
     }
     mc_position_loop_f32_t pl;
@@ -22,14 +22,12 @@ mc_status_t mc_outer_loop_init_f32(mc_outer_loop_f32_t *o,
         .position = pl,
         .omega_max_rad_s = p->omega_max_rad_s,
         .i_max_A = p->i_max_A,
-        .decimation = p->decimation,
     };
     return MC_OK;
 }
 
 void mc_outer_loop_reset_f32(mc_outer_loop_f32_t *o)
 {
-    o->counter = 0u;
     o->i_d_ref_A = 0.0f;
     o->i_q_ref_A = 0.0f;
     o->omega_m_ref_rad_s = 0.0f;

@@ -7,6 +7,14 @@
 #include "mc/compiler.h"
 #include "mc/finite.h"
 
+#define MC_EMF_DECIMATION_MAX 1000u
+
+/* The period of the steps, N Ts. */
+static float step_period_s(const mc_emf_monitor_params_t *p)
+{
+    return (float)p->decimation * p->Ts_s;
+}
+
 mc_status_t mc_emf_monitor_init_f32(mc_emf_monitor_f32_t *m,
                                     const mc_emf_monitor_params_t *p)
 {
@@ -15,15 +23,18 @@ mc_status_t mc_emf_monitor_init_f32(mc_emf_monitor_f32_t *m,
         return MC_ERR_NONFINITE;
     }
     if (p->R_ohm < 0.0f || !(p->L_H > 0.0f) || !(p->psi_Wb > 0.0f) ||
-        !(p->Ts_s > 0.0f) || !(p->filter_s >= p->Ts_s)) {
+        !(p->Ts_s > 0.0f) || p->decimation < 1u ||
+        p->decimation > MC_EMF_DECIMATION_MAX ||
+        !(p->filter_s >= step_period_s(p))) {
         return MC_ERR_PARAM;
     }
+    const float T_step = step_period_s(p);
     *m = (mc_emf_monitor_f32_t){
         .R_ohm = p->R_ohm,
         .L_over_Ts_ohm = p->L_H / p->Ts_s,
         .psi_Wb = p->psi_Wb,
         .half_Ts_s = 0.5f * p->Ts_s,
-        .lpf_a = p->Ts_s / (p->Ts_s + p->filter_s),
+        .lpf_a = T_step / (T_step + p->filter_s),
     };
     return MC_OK;
 }
@@ -74,7 +85,7 @@ void mc_emf_monitor_step_f32(mc_emf_monitor_f32_t *m, float i_alpha_A,
          omega_e_rad_s);
 }
 
-/* Largest check time in samples (the counter saturates there). */
+/* Largest check time in steps (the counter saturates there). */
 #define MC_EMF_CHECK_SAMPLES_MAX 1000000.0f
 #define MC_EMF_FILTER_MAX_S      1.0f
 
@@ -102,7 +113,7 @@ mc_status_t mc_emf_check_init_f32(mc_emf_check_f32_t *chk,
     if (st != MC_OK) {
         return st;
     }
-    const float n = c->check_time_s / p->Ts_s; /* Ts > 0 checked */
+    const float n = c->check_time_s / step_period_s(p); /* > 0 checked */
     if (!(n >= 1.0f) || n > MC_EMF_CHECK_SAMPLES_MAX) {
         return MC_ERR_PARAM;
     }

@@ -2,21 +2,26 @@
  * Current-sensor faults under the baseline FOC (encoder, 8 rad/s, a
  * 1 N m load: |i| = 1.31 A), injected on the measurement at T_INJECT_S.
  * The three sensors of a floating star sum to zero; the supervision
- * (mc/supervisor.h) faults when |i_a + i_b + i_c| > current_sum_max_A =
- * 1 A for current_sum_time_s = 1 ms (N = 20 samples at 20 kHz). Before it
+ * (mc/supervisor.h), on the slow tick (every T = 0.5 ms at 20 kHz / 2 kHz),
+ * faults when |i_a + i_b + i_c| > current_sum_max_A = 1 A on the samples
+ * of n = current_sum_time_s / T = 2 consecutive ticks (1 ms). Before it
  * an offset drift drove the TRUE current above the 20 A trip for
  * 62-136 ms, and a stuck channel was not detected.
  *
- * Expectations (derived from the rule, sample times t_k = k Ts):
+ * Expectations (derived from the rule, tick times t0 + phase + j T, the
+ * phase in [0, T) unknown to the test):
  *  - offset ramp r = 100 A/s on phase a: the sum is r (t - t0): it
- *    exceeds 1 A from t0 + 10 ms (+ one sample: "above" is strict), the
- *    fault comes N - 1 samples later: t0 + 10 ms + 20 Ts (+- one sample
- *    for the float comparison at the crossing). Until then the measured
- *    current is wrong by at most 1.1 A: the true current stays within the
- *    load current + 1.1 A;
+ *    exceeds 1 A after t_c = t0 + 10 ms ("above" is strict), the first
+ *    tick after t_c sees it, within (0, T], and the fault comes n - 1
+ *    ticks later: in (t_c + (n - 1) T, t_c + n T] (+- one sample for the
+ *    float comparison at the crossing). Until then the measured current
+ *    is wrong by at most 1.1 A: the true current stays within the load
+ *    current + 1.1 A;
  *  - offset step of +15 A on phase a (below the 20 A trip, so the phase
- *    over-current check does not fire): the sum is 15 A at once: fault at
- *    t0 + 19 Ts exactly. For those 1 ms the current loop (bandwidth
+ *    over-current check does not fire): the sum is 15 A from the sample at
+ *    t0: the first tick at or after t0 sees it, within [0, T - Ts], the
+ *    fault n - 1 ticks later: in [t0 + (n - 1) T, t0 + n T - Ts], on the
+ *    sample grid. For those at most 1 ms the current loop (bandwidth
  *    w_c = 2513 rad/s) pulls the true alpha current towards -2/3 x 15 A =
  *    -10 A: the true current stays below 10 A + the load current;
  *  - phase b stuck at 0 A: the sum is -i_b(true), a sinusoid of
@@ -75,9 +80,11 @@ static void test_offset_ramp(void **state)
     mc_config_t fc;
     const prot_result_t r = run_case(&inj, &fc, "offset ramp 100 A/s");
     const double Ts = 1.0 / (double)fc.timing.f_pwm_Hz;
-    const double t_expect = T_INJECT_S + (double)fc.protection.current_sum_max_A / rate +
-                            (double)fc.protection.current_sum_time_s;
-    assert_true(fabs(r.t_fault_s - t_expect) <= 1.01 * Ts);
+    const double T = 1.0 / (double)fc.timing.slow_loop_Hz;
+    const double t_c = T_INJECT_S + (double)fc.protection.current_sum_max_A / rate;
+    const double n = round((double)fc.protection.current_sum_time_s / T);
+    assert_true(r.t_fault_s > t_c + (n - 1.0) * T - 1.01 * Ts);
+    assert_true(r.t_fault_s <= t_c + n * T + 1.01 * Ts);
     assert_true(r.i_peak_watch_A <=
                 load_current_A(&fc) + 1.1 * (double)fc.protection.current_sum_max_A);
 }
@@ -93,8 +100,12 @@ static void test_offset_step(void **state)
     mc_config_t fc;
     const prot_result_t r = run_case(&inj, &fc, "offset step +15 A");
     const double Ts = 1.0 / (double)fc.timing.f_pwm_Hz;
-    const double n = round((double)fc.protection.current_sum_time_s / Ts);
-    assert_true(fabs(r.t_fault_s - (T_INJECT_S + (n - 1.0) * Ts)) < 0.01 * Ts);
+    const double T = 1.0 / (double)fc.timing.slow_loop_Hz;
+    const double n = round((double)fc.protection.current_sum_time_s / T);
+    const double k = (r.t_fault_s - T_INJECT_S) / Ts; /* samples after t0 */
+    assert_true(fabs(k - round(k)) < 0.01);
+    assert_true(r.t_fault_s >= T_INJECT_S + (n - 1.0) * T - 0.01 * Ts);
+    assert_true(r.t_fault_s <= T_INJECT_S + n * T - 0.99 * Ts);
     assert_true(r.i_peak_watch_A <= 2.0 / 3.0 * 15.0 + load_current_A(&fc));
 }
 

@@ -12,14 +12,14 @@
  * 0.4 ms, and its recovery from the feed-forward's lagging speed: within
  * 2 ms in all). The encoder speed (the integral branch of a type-2 PLL, a
  * low-pass w_pll^2 / (s + w_pll)^2 of the speed) lags a ramp by
- * 2 / w_pll = 2 ms: MC_FAULT_OVERSPEED 2 ms (+ up to two samples) after
- * the TRUE speed passed 48 rad/s, which is then below 48 + 637.5 x 2.1 ms
- * = 49.3 rad/s. The reaction, coasting, must not charge the bus (mc/app.h): on a
- * 1 mF link behind the source (which cannot sink current) the line
- * back-EMF at 50 rad/s (44 V) stays below the link: once the phase
- * currents have decayed through the diodes (their magnetic energy,
- * 0.29 J, lifts the link by a few volts) no phase conducts and the link
- * voltage stays where it is, below the 60 V trip.
+ * 2 / w_pll = 2 ms; the supervision sees the estimate on the slow tick
+ * (mc/app.h), up to N - 1 = 9 samples later: MC_FAULT_OVERSPEED 2 ms (+ up
+ * to two samples + 9 samples) after the TRUE speed passed 48 rad/s, which
+ * is then below 48 + 637.5 x 2.55 ms = 49.6 rad/s. The reaction, coasting, must not charge the bus
+ * (mc/app.h): on a 1 mF link behind the source (which cannot sink current) the line back-EMF at 50
+ * rad/s (44 V) stays below the link: once the phase currents have decayed through the diodes (their
+ * magnetic energy, 0.29 J, lifts the link by a few volts) no phase conducts and the link voltage
+ * stays where it is, below the 60 V trip.
  *
  * Stall: speed mode at 8 rad/s, a shaft brake at 0.3 s: the encoder sees
  * the stop within a few 1 / w_pll, the speed loop asks for i_max: |i| >
@@ -30,19 +30,25 @@
  * start, 50 rpm) meets a 9 N m load step at tb = 1.5 s, more than the
  * 8.4 N m of the 11 A limit: the limit loop (mc/current_limit.h) holds the
  * measured |i| at 11 A and, acting for current_limit_time_s = 0.1 s
- * without a break, faults: MC_FAULT_CURRENT_LIMIT 0.1 s (- two samples: the
- * loop sees |i_dq|, the phase maximum may cross a sample later; +
- * 5 ms for the loop's engagement) after the true phase current first
- * passed 11 A; the true current above 11 A for at most those 0.1 s, peak
+ * without a break, faults: MC_FAULT_CURRENT_LIMIT 0.1 s (- one slow tick
+ * T = 0.5 ms: the supervision samples the loop's activity on the tick, the
+ * first tick within T after it engages, the fault 0.1 s / T - 1 ticks
+ * later; - two samples: the loop sees |i_dq|, the phase maximum may cross
+ * a sample later; + 5 ms for the loop's engagement) after the true phase
+ * current first passed 11 A; the true current above 11 A for at most
+ * those 0.1 s + T, peak
  * below 11 A + 5 % (a first-order loop does not overshoot; 5 % for the
  * discretisation and the back-EMF).
  *
  * I^2 t: speed mode at 10 rad/s against a 6.12 N m load (8.0 A): the
  * thermal state x' = |i|^2 - i_cont^2 (x >= 0) integrated in double from
- * the TRUE currents (independent of the firmware's float sum) crosses the
- * limit (i_peak^2 - i_cont^2) t_peak = 150 A^2 s in the sample the drive
- * faults (one sample is 64 A^2 x 50 us = 3.2e-3 A^2 s), about 150 / (64 -
- * 25) = 3.85 s after the current rose: MC_FAULT_I2T.
+ * the TRUE currents at the slow ticks (the supervision's samples, period
+ * T = 0.5 ms; independent of the firmware's float sum) crosses the limit
+ * (i_peak^2 - i_cont^2) t_peak = 150 A^2 s in the tick the drive faults
+ * (one tick is 64 A^2 x 0.5 ms = 3.2e-2 A^2 s), about 150 / (64 - 25) =
+ * 3.85 s after the current rose: MC_FAULT_I2T; integrated from every
+ * sample it is then within 0.1 % of the limit (the subsampling of a
+ * steady current).
  */
 #include "mc_test.h"
 
@@ -118,7 +124,8 @@ static void test_overspeed(void **state)
     const double a = kt(&fc) * (double)fc.limits.i_max_A / J_KGM2;
     const double t_an = r.t_run_s + os / a;
     const double Ts = 1.0 / (double)fc.timing.f_pwm_Hz;
-    const double lag = 2.0 / (double)fc.encoder.pll_bandwidth_rad_s + 2.0 * Ts;
+    const double n_slow = round((double)fc.timing.f_pwm_Hz / (double)fc.timing.slow_loop_Hz);
+    const double lag = 2.0 / (double)fc.encoder.pll_bandwidth_rad_s + (1.0 + n_slow) * Ts;
     assert_int_equal(r.first_fault, MC_FAULT_OVERSPEED);
     assert_true(r.outputs_off_at_fault);
     assert_true(c.t_cross_s >= t_an && c.t_cross_s <= t_an + 0.002);
@@ -161,11 +168,15 @@ static void test_stall_locked_rotor(void **state)
 /* ---- I^2 t --------------------------------------------------------------- */
 
 typedef struct {
-    double i_cont_sq, limit, Ts;
-    double x;           /* true thermal state, A^2 s */
-    double x_at_fault;  /* at the faulting sample */
-    double x_before;    /* at the sample before it */
-    double t_heating_s; /* first sample with |i| > i_cont */
+    double i_cont_sq, limit, Ts, T_tick;
+    double x;          /* true thermal state, every sample, A^2 s */
+    double x_tick;     /* the same from the slow ticks' samples */
+    double x_at_fault; /* at the faulting tick */
+    double x_tick_at_fault;
+    double x_tick_before;   /* at the tick before it */
+    long k, k_tick;         /* this sample, the latest tick */
+    long fault_ticks_after; /* samples from that tick to the fault */
+    double t_heating_s;     /* first sample with |i| > i_cont */
     bool latched;
 } thermal_t;
 
@@ -179,11 +190,21 @@ static void watch_thermal(const sim_trace_sample_t *s, void *ctx)
     if (th->t_heating_s < 0.0 && i_sq > th->i_cont_sq) {
         th->t_heating_s = s->t_s;
     }
-    th->x_before = th->x;
     th->x = fmax(0.0, th->x + (i_sq - th->i_cont_sq) * th->Ts);
-    if (s->fw.faults_latched != 0u) {
+    th->k++;
+    /* the slow ticks: slow_loop_ran in speed mode, and the faulting ISR
+     * (its supervision faults before the control, which does not run) */
+    const bool faulted = s->fw.faults_latched != 0u;
+    if (s->fw.slow_loop_ran || faulted) {
+        th->x_tick_before = th->x_tick;
+        th->x_tick = fmax(0.0, th->x_tick + (i_sq - th->i_cont_sq) * th->T_tick);
+        th->fault_ticks_after = th->k - th->k_tick;
+        th->k_tick = th->k;
+    }
+    if (faulted) {
         th->latched = true;
         th->x_at_fault = th->x;
+        th->x_tick_at_fault = th->x_tick;
     }
 }
 
@@ -203,6 +224,7 @@ static void test_i2t(void **state)
                   (double)p->i2t_continuous_A * (double)p->i2t_continuous_A) *
                  (double)p->i2t_peak_time_s,
         .Ts = sim_engine_period_s(e),
+        .T_tick = 1.0 / (double)fc.timing.slow_loop_Hz,
         .t_heating_s = -1.0,
     };
     prot_command =
@@ -210,17 +232,20 @@ static void test_i2t(void **state)
     const prot_result_t r =
         prot_run_observed(e, prot_fixed_cmd, 6.0, 0.01, fc.limits.i_max_A, 0.0, watch_thermal, &th);
     prot_print("I^2 t, 8 A at 10 rad/s", &r);
-    print_message("  true thermal state %.6f A^2 s at the fault (limit %.1f), %.6f before; "
-                  "%.4f s after the current passed i_cont (steady 8 A: %.4f s)\n",
-                  th.x_at_fault, th.limit, th.x_before, r.t_fault_s - th.t_heating_s,
-                  th.limit / (i_load * i_load - th.i_cont_sq));
+    print_message("  true thermal state at the ticks %.6f A^2 s at the fault (limit %.1f), "
+                  "%.6f before; from every sample %.6f; %.4f s after the current passed "
+                  "i_cont (steady 8 A: %.4f s)\n",
+                  th.x_tick_at_fault, th.limit, th.x_tick_before, th.x_at_fault,
+                  r.t_fault_s - th.t_heating_s, th.limit / (i_load * i_load - th.i_cont_sq));
     free(e);
     assert_int_equal(r.first_fault, MC_FAULT_I2T);
     assert_true(r.outputs_off_at_fault);
-    /* the crossing sample, to the float rounding of the firmware's
+    /* the crossing tick, to the float rounding of the firmware's
      * measured-current sum (1e-5 relative) */
-    assert_true(th.x_at_fault > th.limit * (1.0 - 1e-5));
-    assert_true(th.x_before <= th.limit * (1.0 + 1e-5));
+    assert_true(fabs(th.fault_ticks_after * th.Ts - th.T_tick) < 0.01 * th.Ts); /* on a tick */
+    assert_true(th.x_tick_at_fault > th.limit * (1.0 - 1e-5));
+    assert_true(th.x_tick_before <= th.limit * (1.0 + 1e-5));
+    assert_true(fabs(th.x_at_fault - th.limit) <= 1e-3 * th.limit);
     assert_true(r.i_peak_A <= 1.05 * (double)fc.limits.i_max_A);
 }
 
@@ -247,9 +272,10 @@ static void test_current_limit_idapbc(void **state)
     assert_int_equal(r.first_fault, MC_FAULT_CURRENT_LIMIT);
     assert_true(r.outputs_off_at_fault);
     assert_true(r.t_first_over_i_max_s >= BENCH_T0_S + 1.5);
-    assert_true(r.t_fault_s >= r.t_first_over_i_max_s + t_limit - 2.0 * Ts);
+    const double T_tick = 1.0 / (double)fc.timing.slow_loop_Hz;
+    assert_true(r.t_fault_s >= r.t_first_over_i_max_s + t_limit - T_tick - 2.0 * Ts);
     assert_true(r.t_fault_s <= r.t_first_over_i_max_s + t_limit + 0.005);
-    assert_true(r.t_over_i_max_s <= t_limit + Ts);
+    assert_true(r.t_over_i_max_s <= t_limit + T_tick);
     assert_true(r.i_peak_A <= 1.05 * (double)fc.protection.current_limit_A);
 }
 

@@ -23,8 +23,11 @@
  *   to 90 deg, then align.settle_time_s of quiet).
  *   any --fault--> FAULT (PWM off in the same ISR call, latched)
  *   FAULT --clear_fault rising edge, no cause present--> IDLE
- * Every protection check runs in every ISR and state (under-voltage not in
- * IDLE); "cause present" = faults_active of that ISR.
+ * The checks of the sample (over-current, bus, the fault input, the
+ * command link, the estimate's bounds and finiteness) run in every ISR and
+ * state (under-voltage not in IDLE); the supervision (mc/supervisor.h) and
+ * the back-EMF check (mc/emf_monitor.h) once per slow tick, their causes
+ * held to the next. "Cause present" = faults_active of that ISR.
  * After a fault the drive restarts only once enable has been seen false
  * (re-arm), so a stuck enable cannot restart a drive after a clear.
  *
@@ -45,9 +48,12 @@
  * is host wall time, a limit > 1 ignores isolated OS/VM hiccups
  * (measured: 1 ISR in 20000 costs 20-50 us, the mean is 0.4 us).
  *
- * The slow loop (speed/position) runs inside the fast ISR every
- * timing.slow_loop_Hz, so the whole control path is one deterministic ISR
- * whose cost the deadline check covers.
+ * The slow tick: every N-th fast ISR (N = timing.slow_decimation, from
+ * slow_loop_Hz), in every state; RUN starts with a tick, and a mode change
+ * makes its ISR a tick of the slow loop and counts on from there. The slow
+ * loop (speed/position) and the supervision run inside the fast ISR of the
+ * tick, so the whole control path is one deterministic ISR whose cost the
+ * deadline check covers.
  */
 #ifndef MC_APP_H
 #define MC_APP_H
@@ -94,6 +100,9 @@ typedef struct {
     mc_supervisor_t supervisor;    /* drive-level checks (mc/supervisor.h) */
     mc_emf_check_f32_t emf;        /* the estimate against the measured
                                       back-EMF (mc/emf_monitor.h) */
+    uint32_t slow_count;           /* ISRs since the last slow tick, mod N */
+    uint32_t slow_faults;          /* causes the supervision found at the latest
+                                      slow tick (held to the next) */
     bool enable_armed;
     bool clear_prev;
     /* command double buffer (mc_app_set_command) */

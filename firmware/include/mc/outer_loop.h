@@ -7,8 +7,8 @@
  *                  NaN, the application faults on it); omega_ref = 0.
  *   speed mode     omega_ref = the command limited to +-omega_max,
  *   position mode  omega_ref = the position P loop (mc/position_loop.h),
- *                  both on the slow tick: every decimation-th call
- *                  (mc_outer_loop_slow_tick_f32); i_d_ref = 0 (surface
+ *                  both on the slow tick (o->tick, set by the
+ *                  application for each ISR, mc/app.h); i_d_ref = 0 (surface
  *                  PMSM: no reluctance torque). A speed controller then
  *                  sets i_q_ref (the baseline PI) or uses omega_ref
  *                  directly (IDA-PBC).
@@ -32,14 +32,13 @@ typedef struct {
     float position_kp_per_s; /* P gain of the position loop, > 0 */
     float omega_max_rad_s;   /* speed reference limit, > 0 */
     float i_max_A;           /* current reference limit, > 0 */
-    uint32_t decimation;     /* slow tick every N calls, >= 1 */
 } mc_outer_loop_params_t;
 
 typedef struct {
     mc_position_loop_f32_t position;
     float omega_max_rad_s, i_max_A;
-    uint32_t decimation;
-    uint32_t counter; /* calls since the last slow tick */
+    bool tick; /* this call is a slow tick: the application's decimation
+                  (mc/app.h), written before every call */
     float i_d_ref_A, i_q_ref_A, omega_m_ref_rad_s; /* held references */
 } mc_outer_loop_f32_t;
 
@@ -48,16 +47,8 @@ typedef struct {
 mc_status_t mc_outer_loop_init_f32(mc_outer_loop_f32_t *o,
                                    const mc_outer_loop_params_t *p);
 
-/* References to zero, the next call a slow tick (start of RUN).
- * Interrupt context: yes. */
+/* References to zero (start of RUN). Interrupt context: yes. */
 void mc_outer_loop_reset_f32(mc_outer_loop_f32_t *o);
-
-/* The next call is a slow tick (mode change). Interrupt context: yes. */
-MC_STATIC_FORCEINLINE void
-mc_outer_loop_restart_tick_f32(mc_outer_loop_f32_t *o)
-{
-    o->counter = 0u;
-}
 
 /* Current mode: i_d_ref, i_q_ref from the command (limited to i_max),
  * omega_ref = 0. Interrupt context: yes. */
@@ -71,7 +62,7 @@ MC_STATIC_FORCEINLINE void mc_outer_loop_current_f32(mc_outer_loop_f32_t *o,
     (void)mc_circle_limit_f32(&o->i_d_ref_A, &o->i_q_ref_A, o->i_max_A);
 }
 
-/* Speed / position mode: on a slow tick (returns true, sets
+/* Speed / position mode: on a slow tick (o->tick; returns true, sets
  * t->slow_loop_ran) the speed reference from the command (position mode:
  * the position loop on t->theta_m_rad) and i_d_ref = 0; otherwise nothing
  * (false). Interrupt context: yes. */
@@ -79,11 +70,7 @@ MC_STATIC_FORCEINLINE bool mc_outer_loop_speed_f32(mc_outer_loop_f32_t *o,
                                                    const mc_command_t *cmd,
                                                    mc_telemetry_t *t)
 {
-    const bool slow_tick = (o->counter == 0u);
-    if (++o->counter >= o->decimation) {
-        o->counter = 0u;
-    }
-    if (!slow_tick) {
+    if (!o->tick) {
         return false;
     }
     t->slow_loop_ran = true;

@@ -1,6 +1,8 @@
 /*
- * The drive's supervision of every sample, whatever the controller and
- * estimator (thresholds: the protection block, mc/faults.h):
+ * The drive's supervision, whatever the controller and estimator, one
+ * step per slow tick (the application's decimation, mc/app.h: the
+ * samples it sees are every N-th fast sample; the persistence times count
+ * steps of that period) (thresholds: the protection block, mc/faults.h):
  *   overspeed   |omega_m_hat| > overspeed_rad_s (RUN, ALIGN)
  *   stall       |i_dq| > stall_current_A at |omega_m_hat| <
  *               stall_speed_rad_s for stall_time_s (RUN)
@@ -26,13 +28,12 @@
 #include "mc/drive_io.h"
 #include "mc/faults.h"
 #include "mc/status.h"
-#include "mc/timing.h"
 
 typedef struct {
     float overspeed_rad_s;
     float stall_current_sq_A2, stall_speed_rad_s;
     uint32_t stall_n, stall_count;
-    float i2t_cont_sq_A2, i2t_limit_A2s, Ts_s;
+    float i2t_cont_sq_A2, i2t_limit_A2s, step_s;
     float i2t_A2s;      /* thermal state, >= 0 */
     float i2t_comp_A2s; /* Kahan compensation of its sum: the per-sample
                            increment is far below the state's ulp near the
@@ -42,14 +43,13 @@ typedef struct {
     uint32_t limit_n, limit_count;
 } mc_supervisor_t;
 
-/* From the (validated) protection block and the timing record; the
- * thermal state starts cold. Times are rounded to whole samples;
- * MC_ERR_PARAM when one rounds to none. Interrupt context: no. */
+/* From the (validated) protection block and the period of the steps,
+ * step_s > 0; the thermal state starts cold. Times are rounded to whole
+ * steps; MC_ERR_PARAM when one rounds to none. Interrupt context: no. */
 mc_status_t mc_supervisor_init(mc_supervisor_t *sv,
-                               const mc_fault_limits_t *lim,
-                               const mc_timing_t *tm);
+                               const mc_fault_limits_t *lim, float step_s);
 
-/* One sample: t holds the offset-corrected phase currents, the measured
+/* One step: t holds the offset-corrected phase currents, the measured
  * i_d, i_q and the speed estimate. running: RUN; powered: RUN or ALIGN;
  * limiting: the current-limit loop is acting. Returns the fault bits
  * present (OVERSPEED, STALL, I2T, CURRENT_SENSOR, CURRENT_LIMIT).

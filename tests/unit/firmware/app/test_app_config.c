@@ -91,8 +91,8 @@ MUT(cl_at_trip, c->protection.current_limit_A = 20.0f) /* not < i_trip_A */
 MUT(cl_zero, c->protection.current_limit_A = 0.0f)
 MUT(cl_nan, c->protection.current_limit_A = NAN)
 MUT(cl_time_zero, c->protection.current_limit_time_s = 0.0f)
-MUT(cl_time_short, c->protection.current_limit_time_s = 2e-5f) /* round(0.4) = 0 */
-MUT(cl_time_one, c->protection.current_limit_time_s = 5e-5f)   /* one sample */
+MUT(cl_time_short, c->protection.current_limit_time_s = 2e-4f) /* round(0.4) = 0 */
+MUT(cl_time_one, c->protection.current_limit_time_s = 5e-4f)   /* one slow tick */
 MUT(cl_time_nan, c->protection.current_limit_time_s = NAN)
 MUT(os_zero, c->protection.overspeed_rad_s = 0.0f)
 MUT(os_at_wmax, c->protection.overspeed_rad_s = 40.0f) /* = limits.omega_max_rad_s */
@@ -114,8 +114,8 @@ MUT(os_bemf_higher_psi,
 MUT(stall_i_zero, c->protection.stall_current_A = 0.0f)
 MUT(stall_w_zero, c->protection.stall_speed_rad_s = 0.0f)
 MUT(stall_t_zero, c->protection.stall_time_s = 0.0f)
-MUT(stall_t_short, c->protection.stall_time_s = 2e-5f) /* round(0.4) = 0 samples */
-MUT(stall_t_one, c->protection.stall_time_s = 5e-5f)   /* one sample */
+MUT(stall_t_short, c->protection.stall_time_s = 2e-4f) /* round(0.4) = 0 ticks */
+MUT(stall_t_one, c->protection.stall_time_s = 5e-4f)   /* one slow tick */
 MUT(i2t_cont_zero, c->protection.i2t_continuous_A = 0.0f)
 MUT(i2t_peak_eq, c->protection.i2t_peak_A = 5.0f) /* = i2t_continuous_A */
 MUT(i2t_peak_below, c->protection.i2t_peak_A = 4.0f)
@@ -124,7 +124,7 @@ MUT(i2t_time_zero, c->protection.i2t_peak_time_s = 0.0f)
 MUT(i2t_peak_nan, c->protection.i2t_peak_A = NAN)
 MUT(sum_max_zero, c->protection.current_sum_max_A = 0.0f)
 MUT(sum_time_zero, c->protection.current_sum_time_s = 0.0f)
-MUT(sum_time_short, c->protection.current_sum_time_s = 2e-5f) /* round(0.4) = 0 */
+MUT(sum_time_short, c->protection.current_sum_time_s = 2e-4f) /* round(0.4) = 0 */
 /* Dead-time compensation (mc/deadtime_comp.h): the error per period as a
  * duty, t_d f + v_f / v_dc_min, at most 0.1 (20 kHz, v_dc_min 20 V). */
 MUT(dt_ok, c->deadtime.dead_time_s = 1e-6f)
@@ -356,12 +356,13 @@ static void test_emf_check_fields_per_estimator(void **state)
     } f[] = {
 #define EMF(x) offsetof(mc_emf_check_config_t, x)
         { EMF(filter_s), 1.01f, MC_ERR_PARAM },
-        { EMF(filter_s), 4e-5f, MC_ERR_PARAM }, /* < Ts = 50 us */
+        { EMF(filter_s), 4.9e-4f, MC_ERR_PARAM }, /* < the slow tick, 0.5 ms */
+        { EMF(filter_s), 5e-4f, MC_OK },
         { EMF(filter_s), 1.0f, MC_OK },
         { EMF(check_time_s), 0.0f, MC_ERR_PARAM },
-        { EMF(check_time_s), 4e-5f, MC_ERR_PARAM }, /* < one sample */
-        { EMF(check_time_s), 51.0f, MC_ERR_PARAM }, /* 1.02e6 samples */
-        { EMF(check_time_s), 5e-5f, MC_OK },
+        { EMF(check_time_s), 2e-4f, MC_ERR_PARAM },  /* < one tick */
+        { EMF(check_time_s), 501.0f, MC_ERR_PARAM }, /* 1.002e6 ticks */
+        { EMF(check_time_s), 5e-4f, MC_OK },
         { EMF(min_V), 0.0f, MC_ERR_PARAM },
         { EMF(min_speed_e_rad_s), 0.0f, MC_ERR_PARAM },
         { EMF(min_speed_e_rad_s), -3.0f, MC_ERR_PARAM },

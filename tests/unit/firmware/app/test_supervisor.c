@@ -48,8 +48,7 @@ static mc_fault_limits_t limits(void)
 
 static void sv_init(mc_supervisor_t *sv, const mc_fault_limits_t *lim, double Ts)
 {
-    const mc_timing_t tm = { .Ts_s = (float)Ts };
-    assert_int_equal(mc_supervisor_init(sv, lim, &tm), MC_OK);
+    assert_int_equal(mc_supervisor_init(sv, lim, (float)Ts), MC_OK);
 }
 
 static mc_telemetry_t sample(float i_d, float i_q, float omega)
@@ -477,7 +476,6 @@ static void test_current_limit_sustained(void **state)
 static void test_init_rejects(void **state)
 {
     (void)state;
-    const mc_timing_t tm = { .Ts_s = (float)TS };
     const struct {
         size_t off;
         float value;
@@ -502,7 +500,7 @@ static void test_init_rejects(void **state)
         mc_supervisor_t sv, pattern;
         memset(&sv, 0x5a, sizeof sv);
         memset(&pattern, 0x5a, sizeof pattern);
-        const mc_status_t got = mc_supervisor_init(&sv, &lim, &tm);
+        const mc_status_t got = mc_supervisor_init(&sv, &lim, (float)TS);
         if (got != c[i].expected) {
             fail_msg("case %zu: got %d, expected %d", i, (int)got, (int)c[i].expected);
         }
@@ -511,6 +509,13 @@ static void test_init_rejects(void **state)
         } else {
             assert_true(sv.i2t_A2s == 0.0f); /* cold */
         }
+    }
+    /* the period of the steps: > 0 and finite */
+    const float steps[] = { 0.0f, -1e-3f, NAN, INFINITY };
+    const mc_fault_limits_t lim = limits();
+    for (size_t i = 0; i < sizeof steps / sizeof steps[0]; ++i) {
+        mc_supervisor_t sv;
+        assert_int_equal(mc_supervisor_init(&sv, &lim, steps[i]), MC_ERR_PARAM);
     }
 }
 

@@ -1,8 +1,9 @@
 /*
  * The setpoint stage (mc/outer_loop.h) against references written out
- * here: the slow tick every decimation-th call, the position P loop and
- * its clamp, the speed clamp, the current-mode circle limit, references
- * held between ticks, reset and restart of the tick, parameter checks.
+ * here: work on the slow tick only (an input: the application's
+ * decimation, tested in test_app_fsm), the position P loop and its clamp,
+ * the speed clamp, the current-mode circle limit, references held between
+ * ticks, reset, parameter checks.
  */
 #include "mc_test.h"
 
@@ -16,20 +17,19 @@
 #define W_MAX 40.0
 #define I_MAX 10.0
 
-static mc_outer_loop_params_t params(uint32_t decimation)
+static mc_outer_loop_params_t params(void)
 {
     return (mc_outer_loop_params_t){
         .position_kp_per_s = (float)KP,
         .omega_max_rad_s = (float)W_MAX,
         .i_max_A = (float)I_MAX,
-        .decimation = decimation,
     };
 }
 
-static mc_outer_loop_f32_t make(uint32_t decimation)
+static mc_outer_loop_f32_t make(void)
 {
     mc_outer_loop_f32_t o;
-    const mc_outer_loop_params_t p = params(decimation);
+    const mc_outer_loop_params_t p = params();
     assert_int_equal(mc_outer_loop_init_f32(&o, &p), MC_OK);
     return o;
 }
@@ -39,16 +39,16 @@ static double clamp(double x, double lim)
     return fmax(-lim, fmin(lim, x));
 }
 
-/* One call in speed / position mode with a fresh telemetry record;
- * returns whether it was a slow tick (and checks the flag agrees). */
-static bool step(mc_outer_loop_f32_t *o, const mc_command_t *cmd, float theta_m_rad,
-                 mc_telemetry_t *t)
+/* One call in speed / position mode, a slow tick or not, with a fresh
+ * telemetry record; checks that the return value and the flag say it. */
+static void step(mc_outer_loop_f32_t *o, const mc_command_t *cmd, float theta_m_rad,
+                 mc_telemetry_t *t, bool tick)
 {
     *t = (mc_telemetry_t){ .theta_m_rad = theta_m_rad };
-    const bool tick = mc_outer_loop_speed_f32(o, cmd, t);
+    o->tick = tick;
+    assert_int_equal(mc_outer_loop_speed_f32(o, cmd, t), tick);
     assert_int_equal(t->slow_loop_ran, tick);
     mc_outer_loop_publish_f32(o, t);
-    return tick;
 }
 
 static void test_init_checks(void **state)
@@ -58,16 +58,14 @@ static void test_init_checks(void **state)
         mc_outer_loop_params_t p;
         mc_status_t st;
     } c[] = {
-        { { 12.5f, 40.0f, 10.0f, 0u }, MC_ERR_PARAM },
-        { { 0.0f, 40.0f, 10.0f, 1u }, MC_ERR_PARAM },
-        { { 12.5f, 0.0f, 10.0f, 1u }, MC_ERR_PARAM },
-        { { 12.5f, 40.0f, 0.0f, 1u }, MC_ERR_PARAM },
-        { { 12.5f, 40.0f, -1.0f, 1u }, MC_ERR_PARAM },
-        { { 12.5f, 40.0f, NAN, 1u }, MC_ERR_NONFINITE },
-        { { NAN, 40.0f, 10.0f, 1u }, MC_ERR_NONFINITE },
-        { { 12.5f, INFINITY, 10.0f, 1u }, MC_ERR_NONFINITE },
-        { { 12.5f, 40.0f, 10.0f, 1u }, MC_OK },
-        { { 12.5f, 40.0f, 10.0f, 1000u }, MC_OK },
+        { { 0.0f, 40.0f, 10.0f }, MC_ERR_PARAM },
+        { { 12.5f, 0.0f, 10.0f }, MC_ERR_PARAM },
+        { { 12.5f, 40.0f, 0.0f }, MC_ERR_PARAM },
+        { { 12.5f, 40.0f, -1.0f }, MC_ERR_PARAM },
+        { { 12.5f, 40.0f, NAN }, MC_ERR_NONFINITE },
+        { { NAN, 40.0f, 10.0f }, MC_ERR_NONFINITE },
+        { { 12.5f, INFINITY, 10.0f }, MC_ERR_NONFINITE },
+        { { 12.5f, 40.0f, 10.0f }, MC_OK },
     };
     for (size_t i = 0; i < sizeof c / sizeof c[0]; ++i) {
         mc_outer_loop_f32_t o;
@@ -81,13 +79,12 @@ static void test_init_checks(void **state)
         if (st != MC_OK) {
             assert_memory_equal(&o, &pattern, sizeof o); /* untouched */
         } else {
-            assert_int_equal(o.counter, 0u);
             assert_true(o.i_d_ref_A == 0.0f && o.i_q_ref_A == 0.0f && o.omega_m_ref_rad_s == 0.0f);
         }
     }
 }
 
-/* Slow tick on calls 0, N, 2N, ... for several N; the references change
+/* Slow ticks on calls 0, N, 2N, ... for several N; the references change
  * only on a tick and are held (and published) in between. */
 static void test_slow_tick_and_hold(void **state)
 {
@@ -95,7 +92,7 @@ static void test_slow_tick_and_hold(void **state)
     const uint32_t ns[] = { 1u, 2u, 7u, 10u };
     for (size_t i = 0; i < sizeof ns / sizeof ns[0]; ++i) {
         const uint32_t n = ns[i];
-        mc_outer_loop_f32_t o = make(n);
+        mc_outer_loop_f32_t o = make();
         mc_command_t cmd = { .mode = MC_MODE_SPEED };
         double held = 0.0;
         for (uint32_t k = 0; k < 5u * n + 3u; ++k) {
@@ -103,8 +100,8 @@ static void test_slow_tick_and_hold(void **state)
             o.i_q_ref_A = 1.25f; /* the speed controller's, kept */
             o.i_d_ref_A = 0.75f; /* zeroed on a tick */
             mc_telemetry_t t;
-            const bool tick = step(&o, &cmd, 0.0f, &t);
-            assert_int_equal(tick, (k % n) == 0u);
+            const bool tick = (k % n) == 0u;
+            step(&o, &cmd, 0.0f, &t, tick);
             if (tick) {
                 held = 0.5 * (double)k - 3.0;
             }
@@ -119,18 +116,18 @@ static void test_slow_tick_and_hold(void **state)
 static void test_speed_clamp(void **state)
 {
     (void)state;
-    mc_outer_loop_f32_t o = make(1u);
+    mc_outer_loop_f32_t o = make();
     const float w[] = { 0.0f, 15.0f, -39.9f, 40.0f, 40.1f, -41.0f, 1e30f, -INFINITY, INFINITY };
     for (size_t i = 0; i < sizeof w / sizeof w[0]; ++i) {
         const mc_command_t cmd = { .mode = MC_MODE_SPEED, .omega_m_ref_rad_s = w[i] };
         mc_telemetry_t t;
-        assert_true(step(&o, &cmd, 0.0f, &t));
+        step(&o, &cmd, 0.0f, &t, true);
         assert_near(t.omega_m_ref_rad_s, clamp((double)w[i], W_MAX), 0.0);
     }
     /* NaN is not clamped away (the application faults on it). */
     const mc_command_t nan_cmd = { .mode = MC_MODE_SPEED, .omega_m_ref_rad_s = NAN };
     mc_telemetry_t t;
-    assert_true(step(&o, &nan_cmd, 0.0f, &t));
+    step(&o, &nan_cmd, 0.0f, &t, true);
     assert_true(isnan(t.omega_m_ref_rad_s));
 }
 
@@ -140,7 +137,7 @@ static void test_position_loop_output_and_clamp(void **state)
 {
     (void)state;
     test_rng_t rng = test_rng_seed(0x0C7E2u);
-    mc_outer_loop_f32_t o = make(3u);
+    mc_outer_loop_f32_t o = make();
     for (int i = 0; i < 3000; ++i) {
         const double r = test_rng_range(&rng, -20.0, 20.0);
         const double y = test_rng_range(&rng, -20.0, 20.0);
@@ -148,9 +145,12 @@ static void test_position_loop_output_and_clamp(void **state)
                                    .theta_m_ref_rad = (float)r,
                                    .omega_m_ref_rad_s = 1.0f }; /* ignored */
         mc_telemetry_t t;
-        const bool tick = step(&o, &cmd, (float)y, &t);
-        assert_int_equal(tick, (i % 3) == 0);
-        if (tick) {
+        const bool tick = (i % 3) == 0;
+        const double held = (double)o.omega_m_ref_rad_s;
+        step(&o, &cmd, (float)y, &t, tick);
+        if (!tick) {
+            assert_near(t.omega_m_ref_rad_s, held, 0.0);
+        } else {
             const double want = clamp(KP * ((double)(float)r - (double)(float)y), W_MAX);
             assert_near(t.omega_m_ref_rad_s, want, 1e-6 * (1.0 + fabs(want)));
             assert_near(t.i_d_ref_A, 0.0, 0.0);
@@ -159,16 +159,13 @@ static void test_position_loop_output_and_clamp(void **state)
     /* Clamp both ways, exactly at the limit. */
     const mc_command_t far = { .mode = MC_MODE_POSITION, .theta_m_ref_rad = 100.0f };
     mc_telemetry_t t;
-    mc_outer_loop_reset_f32(&o);
-    assert_true(step(&o, &far, 0.0f, &t));
+    step(&o, &far, 0.0f, &t, true);
     assert_near(t.omega_m_ref_rad_s, W_MAX, 0.0);
-    mc_outer_loop_reset_f32(&o);
-    assert_true(step(&o, &far, 200.0f, &t));
+    step(&o, &far, 200.0f, &t, true);
     assert_near(t.omega_m_ref_rad_s, -W_MAX, 0.0);
     /* Within the limit: the P law, 12.5 * 2 = 25 rad/s. */
-    mc_outer_loop_reset_f32(&o);
     const mc_command_t near = { .mode = MC_MODE_POSITION, .theta_m_ref_rad = 3.0f };
-    assert_true(step(&o, &near, 1.0f, &t));
+    step(&o, &near, 1.0f, &t, true);
     assert_near(t.omega_m_ref_rad_s, 25.0, 1e-6);
 }
 
@@ -178,7 +175,7 @@ static void test_current_mode_circle_limit(void **state)
 {
     (void)state;
     test_rng_t rng = test_rng_seed(0xC1C1Eu);
-    mc_outer_loop_f32_t o = make(10u);
+    mc_outer_loop_f32_t o = make();
     for (int i = 0; i < 5000; ++i) {
         const double mag = test_rng_range(&rng, 0.0, 3.0 * I_MAX);
         const double ang = test_rng_range(&rng, -MC_TEST_PI, MC_TEST_PI);
@@ -214,21 +211,16 @@ static void test_current_mode_circle_limit(void **state)
     const mc_command_t c_nan = { .mode = MC_MODE_CURRENT, .i_d_ref_A = NAN, .i_q_ref_A = 1.0f };
     mc_outer_loop_current_f32(&o, &c_nan);
     assert_true(isnan(o.i_d_ref_A) || isnan(o.i_q_ref_A));
-    /* The current mode does not advance the slow tick. */
-    assert_int_equal(o.counter, 0u);
 }
 
-/* Reset: references to zero, the next call a tick; restart_tick: the next
- * call a tick, references kept. */
-static void test_reset_and_restart(void **state)
+/* Reset: references to zero (published so); the next tick sets them. */
+static void test_reset(void **state)
 {
     (void)state;
-    mc_outer_loop_f32_t o = make(5u);
+    mc_outer_loop_f32_t o = make();
     mc_command_t cmd = { .mode = MC_MODE_SPEED, .omega_m_ref_rad_s = 12.0f };
     mc_telemetry_t t;
-    assert_true(step(&o, &cmd, 0.0f, &t));
-    assert_false(step(&o, &cmd, 0.0f, &t));
-    assert_false(step(&o, &cmd, 0.0f, &t));
+    step(&o, &cmd, 0.0f, &t, true);
     o.i_q_ref_A = 3.0f;
     mc_outer_loop_reset_f32(&o);
     assert_true(o.i_d_ref_A == 0.0f && o.i_q_ref_A == 0.0f && o.omega_m_ref_rad_s == 0.0f);
@@ -236,19 +228,10 @@ static void test_reset_and_restart(void **state)
     mc_outer_loop_publish_f32(&o, &r);
     assert_true(r.i_d_ref_A == 0.0f && r.i_q_ref_A == 0.0f && r.omega_m_ref_rad_s == 0.0f);
     cmd.omega_m_ref_rad_s = -7.0f;
-    assert_true(step(&o, &cmd, 0.0f, &t));
+    step(&o, &cmd, 0.0f, &t, false);
+    assert_near(t.omega_m_ref_rad_s, 0.0, 0.0);
+    step(&o, &cmd, 0.0f, &t, true);
     assert_near(t.omega_m_ref_rad_s, -7.0, 0.0);
-    assert_false(step(&o, &cmd, 0.0f, &t));
-    /* restart: the next call ticks; the held reference stays until then */
-    mc_outer_loop_restart_tick_f32(&o);
-    assert_near(o.omega_m_ref_rad_s, -7.0, 0.0);
-    cmd.omega_m_ref_rad_s = 9.0f;
-    assert_true(step(&o, &cmd, 0.0f, &t));
-    assert_near(t.omega_m_ref_rad_s, 9.0, 0.0);
-    for (int k = 1; k < 5; ++k) {
-        assert_false(step(&o, &cmd, 0.0f, &t));
-    }
-    assert_true(step(&o, &cmd, 0.0f, &t));
 }
 
 int main(void)
@@ -259,7 +242,7 @@ int main(void)
         cmocka_unit_test(test_speed_clamp),
         cmocka_unit_test(test_position_loop_output_and_clamp),
         cmocka_unit_test(test_current_mode_circle_limit),
-        cmocka_unit_test(test_reset_and_restart),
+        cmocka_unit_test(test_reset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -48,6 +48,7 @@ static mc_emf_monitor_params_t motor_params(void)
         .psi_Wb = (float)P001_FLUX_WB,
         .Ts_s = (float)TS,
         .filter_s = (float)TAU_S,
+        .decimation = 1u,
     };
 }
 
@@ -191,12 +192,13 @@ static bool sl_condition(const vecs_t *v, double w_est)
  * The low-pass is a convex combination (weights a (1-a)^j, sum < 1), so
  * the filtered difference is within the per-sample bound; each filter's
  * own rounding (u |y| per update plus 2 u a |x - y|) accumulates to at most
- * (u E + 4 u a E) / a with E >= |y| (a = Ts / (Ts + tau)): twice that, for
- * the two filters. Vector norm: sqrt(2) times the component bound. */
-static double agreement_tol_V(const traj_t *tr)
+ * (u E + 4 u a E) / a with E >= |y| (a = T / (T + tau), T the period of
+ * the steps: Ts, or N Ts decimated): twice that, for the two filters. Vector norm: sqrt(2) times
+ * the component bound. */
+static double agreement_tol_V(const traj_t *tr, double T_step)
 {
     const double w = fabs(tr->w), wt = w * TS;
-    const double a = TS / (TS + TAU_S);
+    const double a = T_step / (T_step + TAU_S);
     const double v_max = M_R * tr->I + M_L * tr->I * w + M_PSI * w;
     const double e_max = M_PSI * w + M_R * tr->I * wt * wt + 2.0 * U_F32 * tr->I * M_L / TS;
     const double per_sample = M_R * tr->I * wt * wt / 12.0 + M_PSI * w * wt * wt / 24.0 +
@@ -225,7 +227,7 @@ static void test_exact_trajectory_agrees(void **state)
         mc_emf_check_f32_t enc, sl;
         check_init(&enc);
         check_init(&sl);
-        const double tol = agreement_tol_V(tr);
+        const double tol = agreement_tol_V(tr, TS);
         double worst = 0.0, worst_angle = 0.0;
         for (long k = 0; k < 3 * SETTLE; ++k) {
             const sample_t s = machine(tr, k);
@@ -582,8 +584,80 @@ static void test_reset_clears_history_and_persistence(void **state)
     assert_near(m.e_meas_V[1], a * (2.0 - M_R * 3.0), 1e-8);
 }
 
+/* ---- (g) decimated, as the application runs it --------------------------- */
+
+#define DEC_N 10 /* the slow tick: 2 kHz at 20 kHz */
+
+/* A step on every DEC_N-th sample (k % DEC_N == 0), this sample's
+ * currents remembered on every sample. */
+static bool dec_step(mc_emf_check_f32_t *chk, const sample_t *s, double theta_est, double w_est,
+                     long k)
+{
+    const bool fired = (k % DEC_N == 0) && enc_step(chk, s, theta_est, w_est);
+    mc_emf_monitor_remember_f32(&chk->mon, s->i[0], s->i[1]);
+    return fired;
+}
+
+/* (g) Decimated by DEC_N (steps at T = DEC_N Ts, each over the one
+ * interval before it): on the exact trajectory e_meas and e_pred agree
+ * within the per-interval bound (the filter's term at T), |e_pred| settles
+ * at the backward-Euler low-pass at T of a vector turning w T per step,
+ * |H| = 1 / |1 + q (1 - cos wT) + j q sin wT|, q = tau / T; a 90 deg slip
+ * fires after exactly N_REQ / DEC_N consecutive steps of the condition,
+ * its onset within the continuous model's window counted in steps. */
+static void test_decimated(void **state)
+{
+    (void)state;
+    mc_emf_monitor_params_t p = motor_params();
+    p.decimation = DEC_N;
+    const mc_emf_check_config_t c = default_thresholds();
+    const double T = DEC_N * TS;
+    const long n_req = N_REQ / DEC_N;
+    const traj_t tr = { 5.0, 0.5 * MC_TEST_PI, 0.7, 20.0 };
+    mc_emf_check_f32_t chk;
+    assert_int_equal(mc_emf_check_init_f32(&chk, &c, &p), MC_OK);
+    assert_int_equal(chk.n_required, (uint32_t)n_req);
+    const double tol = agreement_tol_V(&tr, T);
+    for (long k = 0; k < 3 * SETTLE; ++k) {
+        const sample_t s = machine(&tr, k);
+        assert_false(dec_step(&chk, &s, s.theta, tr.w, k));
+        assert_near(vecs(&chk.mon).diff, 0.0, tol);
+    }
+    const double wT = tr.w * T, q = TAU_S / T, th = fabs(tr.w) * TS;
+    const double expected = M_PSI * fabs(tr.w) / hypot(1.0 + q * (1.0 - cos(wT)), q * sin(wT));
+    print_message("decimated: |e_pred| = %.6f V (expected %.6f)\n", vecs(&chk.mon).pred, expected);
+    assert_near(vecs(&chk.mon).pred, expected, (th * th / 8.0 + 1e-5) * expected);
+
+    /* the slip, from a settled monitor at sample SETTLE (a step) */
+    const double delta = 0.5 * MC_TEST_PI;
+    const double t_c = onset_time(EV_SLIP, tr.w, delta, 0.5, false);
+    assert_int_equal(mc_emf_check_init_f32(&chk, &c, &p), MC_OK);
+    long run_start = -1, fire = -1;
+    for (long k = 0; k < SETTLE + 2 * N_REQ && fire < 0; ++k) {
+        const sample_t s = machine(&tr, k);
+        const double th_est = s.theta + (k >= SETTLE ? delta : 0.0);
+        const bool fired = dec_step(&chk, &s, th_est, tr.w, k);
+        if (k % DEC_N != 0) {
+            continue;
+        }
+        const vecs_t v = vecs(&chk.mon);
+        const bool cond = enc_condition(&v, tr.w);
+        assert_true(k >= SETTLE || (!cond && !fired));
+        run_start = !cond ? -1 : (run_start < 0 ? (k - SETTLE) / DEC_N : run_start);
+        if (fired) {
+            fire = (k - SETTLE) / DEC_N;
+        }
+    }
+    const long m_c = (long)ceil(t_c / T) - 1;
+    print_message("decimated slip: onset at step %ld (window [%ld, %ld]), fired at step %ld\n",
+                  run_start, m_c - 1, m_c + 1, fire);
+    assert_true(run_start >= m_c - 1 && run_start <= m_c + 1);
+    assert_int_equal(fire, run_start + n_req - 1);
+}
+
 /* (f) Init: the monitor's parameters (finite; R >= 0, L > 0, psi > 0,
- * Ts > 0, filter >= Ts; *m untouched on error) and the thresholds (finite;
+ * Ts > 0, decimation N in [1, 1000], filter >= N Ts; *m untouched on
+ * error) and the thresholds (finite;
  * filter in [Ts, 1], check time > 0 and at least one sample and at most
  * 1e6, e_min > 0, speed floor > 0, angle_max in (0, pi/2], ratio_low in
  * (0, 1), ratio_high > 1). */
@@ -625,6 +699,37 @@ static void test_init_rejects(void **state)
         if (got != MC_OK) {
             assert_memory_equal(&m, &pattern, sizeof m);
         }
+    }
+    /* decimation N in [1, 1000], the filter at least N Ts */
+    const struct {
+        uint32_t n;
+        float filter_s;
+        mc_status_t expected;
+    } dc[] = {
+        { 0u, (float)TAU_S, MC_ERR_PARAM },
+        { 1000u, 0.05f, MC_OK },
+        { 1001u, 1.0f, MC_ERR_PARAM },
+        { 10u, (float)(10.0 * TS), MC_OK },
+        { 10u, (float)(9.9 * TS), MC_ERR_PARAM },
+    };
+    for (size_t i = 0; i < sizeof dc / sizeof dc[0]; ++i) {
+        mc_emf_monitor_params_t p = p0;
+        p.decimation = dc[i].n;
+        p.filter_s = dc[i].filter_s;
+        mc_emf_monitor_f32_t m;
+        assert_int_equal(mc_emf_monitor_init_f32(&m, &p), dc[i].expected);
+    }
+    /* decimated, the check time counts steps: at least one */
+    {
+        mc_emf_monitor_params_t p = p0;
+        p.decimation = 10u;
+        mc_emf_check_config_t c = default_thresholds();
+        mc_emf_check_f32_t chk;
+        c.check_time_s = (float)(9.0 * TS);
+        assert_int_equal(mc_emf_check_init_f32(&chk, &c, &p), MC_ERR_PARAM);
+        c.check_time_s = (float)(10.0 * TS);
+        assert_int_equal(mc_emf_check_init_f32(&chk, &c, &p), MC_OK);
+        assert_int_equal(chk.n_required, 1u);
     }
 
     const mc_emf_check_config_t c0 = default_thresholds();
@@ -693,6 +798,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_exact_trajectory_agrees),
+        cmocka_unit_test(test_decimated),
         cmocka_unit_test(test_encoder_slip_fires),
         cmocka_unit_test(test_encoder_freeze_fires),
         cmocka_unit_test(test_sensorless_standstill),
