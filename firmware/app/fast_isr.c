@@ -241,8 +241,8 @@ void mc_app_fast_isr(mc_app_t *app)
      * checked in IDLE (the bus may be legitimately down while the drive is
      * off); in FAULT it is, so a clear waits for the bus to recover. */
     const bool check_uv = (app->state != MC_STATE_IDLE);
-    uint32_t active = mc_faults_check_sample(&app->cfg.protection, t->i_abc_A,
-                                             t->v_dc_V, check_uv);
+    uint32_t active = mc_faults_check_sample_fast(
+        &app->cfg.protection, t->i_abc_A, t->v_dc_V, check_uv);
     if (hal_gpio_fault_input_active()) {
         active |= MC_FAULT_EXTERNAL;
     }

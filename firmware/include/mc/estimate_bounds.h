@@ -38,14 +38,16 @@ static inline mc_status_t
 mc_estimate_bounds_check(const mc_estimate_bounds_t *b, float omega_m_rad_s,
                          float tau_Nm)
 {
+    /* the common case first: both comparisons are false for NaN and Inf
+     * (the bounds are finite) */
+    if (fabsf(omega_m_rad_s) <= b->omega_m_max_rad_s &&
+        fabsf(tau_Nm) <= b->tau_max_Nm) {
+        return MC_OK;
+    }
     if (!isfinite(omega_m_rad_s) || !isfinite(tau_Nm)) {
         return MC_ERR_NONFINITE;
     }
-    if (fabsf(omega_m_rad_s) > b->omega_m_max_rad_s ||
-        fabsf(tau_Nm) > b->tau_max_Nm) {
-        return MC_ERR_RANGE;
-    }
-    return MC_OK;
+    return MC_ERR_RANGE;
 }
 
 #endif /* MC_ESTIMATE_BOUNDS_H */

@@ -478,7 +478,8 @@ static void test_estimator_info(void **state)
     assert_near(i.speed_bandwidth_rad_s, 0.0, 0.0);
 }
 
-/* Grid over currents and bus voltages: the mask equals the rule written
+/* Grid over the three currents and bus voltages: the mask of
+ * mc_faults_check_sample and of its fast-ISR form equals the rule written
  * out independently here. */
 static void test_fault_check_sample_grid(void **state)
 {
@@ -487,33 +488,33 @@ static void test_fault_check_sample_grid(void **state)
     const float currents[] = { -30.0f, -20.0f, -19.9f, 0.0f, 19.9f, 20.0f, 20.1f, NAN, INFINITY };
     const float volts[] = { -1.0f, 0.0f, 19.9f, 20.0f, 48.0f, 60.0f, 60.1f, NAN, -INFINITY };
     const size_t nc = sizeof currents / sizeof currents[0];
-    for (size_t a = 0; a < nc; ++a) {
-        for (size_t b = 0; b < nc; ++b) {
-            for (size_t v = 0; v < sizeof volts / sizeof volts[0]; ++v) {
-                for (int uv = 0; uv < 2; ++uv) {
-                    const float i3[3] = { currents[a], currents[b], 0.5f };
-                    uint32_t exp_mask = 0u;
-                    for (int k = 0; k < 2; ++k) {
-                        const double x = (double)i3[k];
-                        if (x != x || x - x != 0.0) {
-                            exp_mask |= MC_FAULT_NONFINITE;
-                        } else if (fabs(x) > 20.0) {
-                            exp_mask |= MC_FAULT_OVERCURRENT;
-                        }
-                    }
-                    const double vd = (double)volts[v];
-                    if (vd != vd || vd - vd != 0.0) {
+    for (size_t n = 0; n < nc * nc * nc; ++n) {
+        const float i3[3] = { currents[n % nc], currents[(n / nc) % nc], currents[n / (nc * nc)] };
+        for (size_t v = 0; v < sizeof volts / sizeof volts[0]; ++v) {
+            for (int uv = 0; uv < 2; ++uv) {
+                uint32_t exp_mask = 0u;
+                for (int k = 0; k < 3; ++k) {
+                    const double x = (double)i3[k];
+                    if (x != x || x - x != 0.0) {
                         exp_mask |= MC_FAULT_NONFINITE;
-                    } else {
-                        if (vd > 60.0) {
-                            exp_mask |= MC_FAULT_DC_OVERVOLTAGE;
-                        }
-                        if (uv && vd < 20.0) {
-                            exp_mask |= MC_FAULT_DC_UNDERVOLTAGE;
-                        }
+                    } else if (fabs(x) > 20.0) {
+                        exp_mask |= MC_FAULT_OVERCURRENT;
                     }
-                    assert_int_equal(mc_faults_check_sample(&lim, i3, volts[v], uv != 0), exp_mask);
                 }
+                const double vd = (double)volts[v];
+                if (vd != vd || vd - vd != 0.0) {
+                    exp_mask |= MC_FAULT_NONFINITE;
+                } else {
+                    if (vd > 60.0) {
+                        exp_mask |= MC_FAULT_DC_OVERVOLTAGE;
+                    }
+                    if (uv && vd < 20.0) {
+                        exp_mask |= MC_FAULT_DC_UNDERVOLTAGE;
+                    }
+                }
+                assert_int_equal(mc_faults_check_sample(&lim, i3, volts[v], uv != 0), exp_mask);
+                assert_int_equal(mc_faults_check_sample_fast(&lim, i3, volts[v], uv != 0),
+                                 exp_mask);
             }
         }
     }
