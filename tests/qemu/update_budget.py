@@ -16,8 +16,13 @@ Groups the entry does not have (an image without a decimated loop has no
 run_slow) stay absent. The file keeps its layout: objects and lists of
 scalars on one line, the "about" list one string per line.
 
+--tables prints, from the file alone, the two markdown tables made from it:
+README.md's "ISR cost on the Cortex-M4F" and hal/qemu_m4/README.md's "ISR
+budget".
+
 Usage: update_budget.py --build build/m4f --reason "what changed and why"
            [--image NAME]... [--whole-run] [--budget FILE]
+       update_budget.py --tables [--budget FILE]
 """
 import argparse
 import json
@@ -100,11 +105,57 @@ def dump(x, indent=0):
                               for k, v in x.items()) + "\n" + pad + "}"
 
 
+# README.md's row labels
+LABELS = {
+    "qemu_p001_foc_encoder": "FOC PI, encoder (p001), 20 kHz",
+    "qemu_p001_idapbc_sensorless": "IDA-PBC, sensorless (p001), 20 kHz",
+    "qemu_p001_nam_sensorless": "NAM: flux observer + PLL + FOC PI, sensorless (p001), 20 kHz",
+    "qemu_p000_eeo": "EEO position regulator (p000), 20 kHz",
+    "qemu_p002_cdobc": "CDOBC speed regulator (p002), 10 kHz",
+}
+
+
+def tables(budget):
+    def mm(g, k_mean="mean", k_max="max", fmt="{:.1f}"):
+        return "-" if g is None else f"{fmt.format(g[k_mean])} / {g[k_max]}"
+
+    print("| controller | fast instr mean / max | slow instr mean / max | est. cycles mean "
+          "(fast) / max (all) | stack ran / static (B) | firmware flash (B) | state RAM (B) |")
+    print("|---|---|---|---|---|---|---|")
+    for name, e in budget["images"].items():
+        ins, w, st = e["instructions"], e["estimate_whole_run"], e["stack"]
+        fw = e["size"]["firmware"]
+        print(f"| {LABELS.get(name, name)} | {mm(ins['run_fast'])} | {mm(ins.get('run_slow'))} | "
+              f"{w['run_fast']['mean_cycles']:.0f} / {w['run']['max_cycles']} | "
+              f"{st['ran_bytes']} / {st['static_required_bytes']} | {fw['text']} | "
+              f"{fw['state_bytes']} |")
+    print()
+    print("| image | instr fast max / mean | instr slow max / mean | est. cycles fast max / "
+          "mean (window) | est. cycles slow max / mean (window) | stack static / required / "
+          "ran | text (fw) | RAM = data + bss |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, e in budget["images"].items():
+        ins, est, st, sz = e["instructions"], e["estimate"], e["stack"], e["size"]
+
+        def rev(g, a, b):
+            return "-" if g is None else f"{g[a]} / {g[b]:.1f}" if isinstance(g[b], float) \
+                else f"{g[a]} / {g[b]}"
+        img, fw = sz["image"], sz["firmware"]
+        print(f"| `{name}` | {rev(ins['run_fast'], 'max', 'mean')} | "
+              f"{rev(ins.get('run_slow'), 'max', 'mean')} | "
+              f"{rev(est['run_fast'], 'max_cycles', 'mean_cycles')} | "
+              f"{rev(est.get('run_slow'), 'max_cycles', 'mean_cycles')} | "
+              f"{st['static_bytes']} / {st['static_required_bytes']} / {st['ran_bytes']} | "
+              f"{img['text']} ({fw['text']}) | {img['data']} + {img['bss']} (fw {fw['data']} + "
+              f"{fw['bss']}; mc_app_t {fw['state_bytes']}) |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", required=True, help="the m4f build tree (tests built)")
-    ap.add_argument("--reason", required=True, help="what changed and why the values are "
+    ap.add_argument("--build", help="the m4f build tree (tests built)")
+    ap.add_argument("--reason", help="what changed and why the values are "
                     "accepted (the entry's new reason)")
+    ap.add_argument("--tables", action="store_true", help="print the README tables")
     ap.add_argument("--image", action="append", help="entry to update (repeatable; "
                     "default: all)")
     ap.add_argument("--whole-run", action="store_true", help="also re-measure "
@@ -112,6 +163,11 @@ def main():
     ap.add_argument("--budget", default=os.path.join(HERE, "isr_budget.json"))
     a = ap.parse_args()
     budget = json.load(open(a.budget))
+    if a.tables:
+        tables(budget)
+        return 0
+    if not a.build or not a.reason:
+        ap.error("--build and --reason are required to update")
     names = a.image or list(budget["images"])
     optional = budget["stack_optional"]["functions"]
     for name in names:
