@@ -45,11 +45,17 @@ void mc_speed_loop_reset_f32(mc_speed_loop_f32_t *sl)
 float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl, float omega_m_ref_rad_s,
                              float omega_m_rad_s)
 {
-    /* Friction feed-forward; the PI gets the room left within +-i_q_max. */
+    /* Friction feed-forward; the PI gets the room left within +-i_q_max.
+     * Limits that are not ordered (a non-finite ff, or one beyond the
+     * float resolution of i_q_max) give NaN, as mc_pi_set_limits_f32
+     * rejects them; a non-finite error gives NaN from the PI itself. */
     const float ff = sl->B_over_kt * omega_m_ref_rad_s;
-    if (mc_pi_set_limits_f32(&sl->pi, -sl->i_q_max_A - ff,
-                             sl->i_q_max_A - ff) != MC_OK) {
+    const float lo = -sl->i_q_max_A - ff;
+    const float hi = sl->i_q_max_A - ff;
+    if (!(lo < hi)) {
         return NAN;
     }
-    return ff + mc_pi_step_f32(&sl->pi, omega_m_ref_rad_s - omega_m_rad_s);
+    mc_pi_set_limits_unchecked_f32(&sl->pi, lo, hi);
+    return ff +
+           mc_pi_step_unchecked_f32(&sl->pi, omega_m_ref_rad_s - omega_m_rad_s);
 }

@@ -1,5 +1,6 @@
 /*
- * Space-vector PWM by min-max injection. See mc/svpwm.h.
+ * Space-vector PWM by min-max injection. See mc/svpwm.h: the common case
+ * is inline there, the limit and the checked variant here.
  */
 #include "mc/svpwm.h"
 
@@ -17,37 +18,30 @@ static const uint8_t sector_by_max_min[3][3] = {
     { 4u, 5u, 4u },
 };
 
-typedef struct {
-    float v[3];
-    uint8_t i_max;
-    uint8_t i_min;
-} phase_spread_t;
-
-static phase_spread_t phase_spread(float v_alpha_V, float v_beta_V)
+/* The sector of the phase voltages v_V (the first index of the largest
+ * and of the smallest). */
+static uint8_t sector_of(const float v_V[3])
 {
-    phase_spread_t p;
-    mc_inv_clarke_f32(v_alpha_V, v_beta_V, &p.v[0], &p.v[1], &p.v[2]);
-    p.i_max = 0u;
-    p.i_min = 0u;
+    uint8_t i_max = 0u;
+    uint8_t i_min = 0u;
     for (uint8_t i = 1u; i < 3u; i++) {
-        if (p.v[i] > p.v[p.i_max]) {
-            p.i_max = i;
+        if (v_V[i] > v_V[i_max]) {
+            i_max = i;
         }
-        if (p.v[i] < p.v[p.i_min]) {
-            p.i_min = i;
+        if (v_V[i] < v_V[i_min]) {
+            i_min = i;
         }
     }
-    return p;
+    return sector_by_max_min[i_max][i_min];
 }
 
-/* The modulator proper on the command's phase spread p: the limit, the
- * common-mode offset, the duties and the voltage applied (all of *out but
- * the sector). */
-static void modulate_spread(phase_spread_t p, float v_alpha_V, float v_beta_V,
-                            float v_dc_V, mc_svpwm_limit_t limit,
-                            mc_svpwm_out_f32_t *out)
+mc_svpwm_out_f32_t mc_svpwm_edge_f32(float v_alpha_V, float v_beta_V,
+                                     float v_dc_V, mc_svpwm_limit_t limit)
 {
-    const float spread_V = p.v[p.i_max] - p.v[p.i_min];
+    mc_svpwm_out_f32_t out;
+    out.sector = 0u;
+    mc_svpwm_phases_t p = mc_svpwm_phases_f32(v_alpha_V, v_beta_V);
+    const float spread_V = p.max_V - p.min_V;
     /* Overmodulation: the command normalised by its (finite, > 0) phase
      * spread, times a factor k that puts it on the boundary. Working with
      * the normalised vector avoids overflow of |v|^2 and underflow of a
@@ -78,28 +72,19 @@ static void modulate_spread(phase_spread_t p, float v_alpha_V, float v_beta_V,
         v_alpha_V = (v_alpha_V * inv_spread) * k_V;
         v_beta_V = (v_beta_V * inv_spread) * k_V;
         for (uint8_t i = 0u; i < 3u; i++) {
-            p.v[i] = (p.v[i] * inv_spread) * k_V;
+            p.v_V[i] = (p.v_V[i] * inv_spread) * k_V;
         }
+        p.max_V = (p.max_V * inv_spread) * k_V;
+        p.min_V = (p.min_V * inv_spread) * k_V;
     }
-    const float v_offset_V = -0.5f * (p.v[p.i_max] + p.v[p.i_min]);
+    /* Rounding can push the boundary phases a few ulp outside [0,1] at
+     * full modulation; this is not a limit, only float noise: clamped. */
     const float inv_v_dc = 1.0f / v_dc_V; /* guarded: v_dc >= FLT_MIN */
-    for (uint8_t i = 0u; i < 3u; i++) {
-        float d = 0.5f + (p.v[i] + v_offset_V) * inv_v_dc;
-        /* Rounding can push the boundary phases a few ulp outside [0,1]
-         * at full modulation; this is not a limit, only float noise. */
-        d = (d < 0.0f) ? 0.0f : ((d > 1.0f) ? 1.0f : d);
-        out->duty[i] = d;
-    }
-    out->overmodulated = overmodulated;
-    out->v_alpha_V = v_alpha_V;
-    out->v_beta_V = v_beta_V;
-}
-
-void mc_svpwm_unchecked_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
-                            mc_svpwm_limit_t limit, mc_svpwm_out_f32_t *out)
-{
-    modulate_spread(phase_spread(v_alpha_V, v_beta_V), v_alpha_V, v_beta_V,
-                    v_dc_V, limit, out);
+    mc_svpwm_duties_f32(&p, inv_v_dc, true, out.duty);
+    out.overmodulated = overmodulated;
+    out.v_alpha_V = v_alpha_V;
+    out.v_beta_V = v_beta_V;
+    return out;
 }
 
 mc_status_t mc_svpwm_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
@@ -114,11 +99,11 @@ mc_status_t mc_svpwm_f32(float v_alpha_V, float v_beta_V, float v_dc_V,
     if (limit != MC_SVPWM_LIMIT_CIRCLE && limit != MC_SVPWM_LIMIT_HEXAGON) {
         return MC_ERR_PARAM;
     }
-    const phase_spread_t p = phase_spread(v_alpha_V, v_beta_V);
-    if (!isfinite(p.v[p.i_max] - p.v[p.i_min])) {
+    const mc_svpwm_phases_t p = mc_svpwm_phases_f32(v_alpha_V, v_beta_V);
+    if (!isfinite(p.max_V - p.min_V)) {
         return MC_ERR_RANGE; /* finite command too large for float */
     }
-    modulate_spread(p, v_alpha_V, v_beta_V, v_dc_V, limit, out);
-    out->sector = sector_by_max_min[p.i_max][p.i_min];
+    mc_svpwm_unchecked_f32(v_alpha_V, v_beta_V, v_dc_V, limit, out);
+    out->sector = sector_of(p.v_V);
     return MC_OK;
 }

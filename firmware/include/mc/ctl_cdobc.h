@@ -220,7 +220,10 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
         if (mc_cdobc_pid_step_f32(&ctl->pid, w, w_ref, &out.v_q_V) != MC_OK) {
             return MC_FAULT_NONFINITE;
         }
-        out.v_d_V = mc_pi_step_f32(&ctl->law.pi_d, -t->i_d_A);
+        /* unchecked: a non-finite i_d gives a NaN v_d (mc/pi.h), which
+         * the circle limit keeps and the output check catches; the
+         * restart resets the integrator */
+        out.v_d_V = mc_pi_step_unchecked_f32(&ctl->law.pi_d, -t->i_d_A);
         out.q_limited =
             !(out.v_q_V < ctl->law.v_max_V) || !(out.v_q_V > -ctl->law.v_max_V);
         out.d_limited = false;

@@ -62,8 +62,10 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
     const float tau_lim = ctl->tau_max_Nm;
     float tau = t->tau_L_hat_Nm;
     if (ctl->integral_enabled) {
-        tau += mc_pi_step_f32(&ctl->integral,
-                              t->omega_m_ref_rad_s - t->omega_m_rad_s);
+        /* unchecked: NaN for a non-finite speed all the same (mc/pi.h);
+         * start and mode changes reset the integrator */
+        tau += mc_pi_step_unchecked_f32(&ctl->integral, t->omega_m_ref_rad_s -
+                                                            t->omega_m_rad_s);
     }
     tau = (tau > tau_lim) ? tau_lim : ((tau < -tau_lim) ? -tau_lim : tau);
     t->i_d_ref_A = 0.0f;

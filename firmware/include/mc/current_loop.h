@@ -23,8 +23,11 @@
 #ifndef MC_CURRENT_LOOP_H
 #define MC_CURRENT_LOOP_H
 
+#include <math.h>
 #include <stdbool.h>
 
+#include "mc/clarke.h"
+#include "mc/compiler.h"
 #include "mc/pi.h"
 #include "mc/status.h"
 
@@ -40,6 +43,12 @@ typedef struct {
  * otherwise (MC_ERR_NONFINITE for NaN/Inf). Interrupt context: no. */
 mc_status_t mc_current_pi_design_f32(float R_ohm, float L_H, float w_c_rad_s,
                                      mc_current_pi_gains_t *out);
+
+/* Smallest q-axis room, as a fraction of v_max, when the d axis takes the
+ * whole voltage circle: keeps the q PI limits a proper interval
+ * (out_min < out_max). The resulting |v_dq| exceeds v_max by at most
+ * 5e-9 v_max (relative), far below float resolution of the duties. */
+#define MC_CL_Q_ROOM_MIN 1.0e-4f
 
 /* Largest w_c Ts: with up to 1.5 periods of computation + PWM delay the
  * phase margin is 90 deg - 1.5 w_c Ts rad >= 47 deg. */
@@ -91,11 +100,70 @@ void mc_current_loop_preset_f32(mc_current_loop_f32_t *cl, float v_d_V,
                                 float v_q_V, float i_d_A, float i_q_A,
                                 float omega_e_rad_s);
 
-/* One sample: currents and references in A, omega_e in rad/s (electrical),
- * v_dc in V. The caller checks its inputs for finiteness; v_dc_V must be
- * > 0 (MC_ERR_RANGE otherwise, outputs zeroed, integrators untouched).
- * Returns MC_ERR_NONFINITE if an output is not finite.
+/* Decoupling feed-forward (rotor-frame voltage equations):
+ * ff_d = -omega_e Lq i_q, ff_q = omega_e (Ld i_d + psi).
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void
+mc_current_loop_feed_forward_f32(const mc_current_loop_f32_t *cl, float i_d_A,
+                                 float i_q_A, float omega_e_rad_s,
+                                 float *ff_d_V, float *ff_q_V)
+{
+    *ff_d_V = -omega_e_rad_s * cl->Lq_H * i_q_A;
+    *ff_q_V = omega_e_rad_s * (cl->Ld_H * i_d_A + cl->psi_Wb);
+}
+
+/* One axis: the PI output is limited to the room the feed-forward leaves
+ * within +-v_lim_V (anti-windup, mc/pi.h); returns PI(error) + ff. *sat
+ * tells that the PI sits on a limit. The limits are finite and ordered
+ * whenever the inputs are finite (v_lim_V > 0); a non-finite input
+ * reaches the result. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_current_loop_axis_f32(mc_pi_f32_t *pi,
+                                                     float v_lim_V, float ff_V,
+                                                     float error_A, bool *sat)
+{
+    const float lo = -v_lim_V - ff_V;
+    const float hi = v_lim_V - ff_V;
+    return mc_pi_step_within_unchecked_f32(pi, error_A, lo, hi, sat) + ff_V;
+}
+
+/* One sample without checks, for an ISR path that checks v_dc_V before
+ * (finite, > 0: the caller's precondition) and v_d, v_q after: currents
+ * and references in A, omega_e in rad/s (electrical), v_dc in V. A NaN or
+ * infinite current, reference or speed gives a non-finite v_d or v_q
+ * (and may leave an integrator non-finite until the next reset).
  * Interrupt context: yes (bounded: one sqrtf). */
+MC_STATIC_FORCEINLINE mc_current_loop_out_t mc_current_loop_step_unchecked_f32(
+    mc_current_loop_f32_t *cl, float i_d_A, float i_q_A, float i_d_ref_A,
+    float i_q_ref_A, float omega_e_rad_s, float v_dc_V)
+{
+    const float v_max = cl->modulation_margin * v_dc_V * MC_INV_SQRT3_F;
+    float ff_d;
+    float ff_q;
+    mc_current_loop_feed_forward_f32(cl, i_d_A, i_q_A, omega_e_rad_s, &ff_d,
+                                     &ff_q);
+    mc_current_loop_out_t out;
+    bool sat_d;
+    bool sat_q;
+    /* d axis first: the PI may use what the feed-forward leaves. */
+    out.v_d_V = mc_current_loop_axis_f32(&cl->pi_d, v_max, ff_d,
+                                         i_d_ref_A - i_d_A, &sat_d);
+    /* q axis: the rest of the circle (sqrt guarded: room_sq >
+     * room_min^2 >= 0; a NaN room_sq takes room_min). */
+    const float room_sq = v_max * v_max - out.v_d_V * out.v_d_V;
+    const float room_min = MC_CL_Q_ROOM_MIN * v_max;
+    const float v_q_max =
+        (room_sq > room_min * room_min) ? sqrtf(room_sq) : room_min;
+    out.v_q_V = mc_current_loop_axis_f32(&cl->pi_q, v_q_max, ff_q,
+                                         i_q_ref_A - i_q_A, &sat_q);
+    out.saturated = sat_d || sat_q;
+    return out;
+}
+
+/* One sample, checked: the same with v_dc_V checked (MC_ERR_NONFINITE,
+ * MC_ERR_RANGE if not > 0: outputs zeroed, integrators untouched) and
+ * MC_ERR_NONFINITE if an output is not finite (outputs zeroed). The caller
+ * checks its inputs for finiteness. Interrupt context: yes (bounded: one
+ * sqrtf). */
 mc_status_t mc_current_loop_step_f32(mc_current_loop_f32_t *cl, float i_d_A,
                                      float i_q_A, float i_d_ref_A,
                                      float i_q_ref_A, float omega_e_rad_s,

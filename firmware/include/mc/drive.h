@@ -29,6 +29,7 @@
 #include "mc/drive_io.h"
 #include "mc/estimator.h"
 #include "mc/faults.h"
+#include "mc/finite.h"
 #include "mc/outer_loop.h"
 
 typedef struct {
@@ -52,19 +53,21 @@ MC_STATIC_FORCEINLINE uint32_t mc_drive_voltage_fault(float v_dc_V)
 
 /* The current loop on t's measured i_d, i_q and references i_d_ref,
  * i_q_ref at omega_e = n_p t->omega_m_rad_s and t->v_dc_V: v_d, v_q,
- * v_saturated into *t. Fault bits (mc_drive_voltage_fault).
- * Interrupt context: yes. */
+ * v_saturated into *t. Fault bits: mc_drive_voltage_fault for a bus
+ * voltage that is not finite or below FLT_MIN; a non-finite current,
+ * reference or speed gives a non-finite v_d or v_q instead, which the
+ * application's output check turns into MC_FAULT_NONFINITE (it resets the
+ * current loop before the next use). Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_drive_current_step(mc_drive_t *d,
                                                      mc_telemetry_t *t)
 {
-    const float omega_e = d->n_p * t->omega_m_rad_s;
-    mc_current_loop_out_t v;
-    const mc_status_t st =
-        mc_current_loop_step_f32(&d->current, t->i_d_A, t->i_q_A, t->i_d_ref_A,
-                                 t->i_q_ref_A, omega_e, t->v_dc_V, &v);
-    if (st != MC_OK) {
-        return mc_drive_voltage_fault(t->v_dc_V);
+    const float v_dc = t->v_dc_V;
+    if (!mc_positive_normal_f32(v_dc)) {
+        return mc_drive_voltage_fault(v_dc);
     }
+    const mc_current_loop_out_t v = mc_current_loop_step_unchecked_f32(
+        &d->current, t->i_d_A, t->i_q_A, t->i_d_ref_A, t->i_q_ref_A,
+        d->n_p * t->omega_m_rad_s, v_dc);
     t->v_d_V = v.v_d_V;
     t->v_q_V = v.v_q_V;
     t->v_saturated = v.saturated;

@@ -28,12 +28,16 @@
  *
  * Non-finite error: step returns NaN and leaves the state unchanged (the
  * caller's fault handling sees it); it is never mapped to a finite value.
+ * The unchecked steps (ISR paths whose caller checks the result) skip the
+ * test but keep the last point: a non-finite error gives a NaN output.
  */
 #ifndef MC_PI_H
 #define MC_PI_H
 
 #include <math.h>
+#include <stdbool.h>
 
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 typedef struct {
@@ -72,37 +76,77 @@ static inline void mc_pi_set_limits_unchecked_f32(mc_pi_f32_t *pi,
     pi->out_max = out_max;
 }
 
-/* One controller sample; returns the limited output u_k. Interrupt context:
- * yes, bounded time, no division. */
+/* One controller sample on the limits [out_min, out_max] given here (a
+ * caller that recomputes them every sample passes them instead of storing
+ * them in *pi); returns the limited output u_k, *at_limit tells that it
+ * sits on a limit (u_k <= out_min or u_k >= out_max). No finiteness
+ * checks, for an ISR path that checks what it computes from the output: a
+ * NaN or infinite error gives a NaN output (a NaN error also a NaN
+ * integrator until the next reset); NaN limits leave the output
+ * unlimited. Interrupt context: yes, bounded time, no division. */
+MC_STATIC_FORCEINLINE float
+mc_pi_step_within_unchecked_f32(mc_pi_f32_t *pi, float error, float out_min,
+                                float out_max, bool *at_limit)
+{
+    const float p_term = pi->kp * error;
+    float integ = pi->integrator + pi->ki_Ts * error;
+    float u = p_term + integ;
+    *at_limit = false;
+    if (u > out_min && u < out_max && integ >= out_min && integ <= out_max) {
+        /* The common case: output strictly and integrator inside the
+         * limits, where 1. to 3. below change nothing. (The error is
+         * finite here: an infinite one makes u infinite or NaN.) */
+        pi->integrator = integ;
+        return u;
+    }
+    /* 1. conditional integration: stop where the output meets the limit */
+    if (error > 0.0f && u > out_max) {
+        const float to_limit = out_max - p_term;
+        integ = (to_limit > pi->integrator) ? to_limit : pi->integrator;
+    } else if (error < 0.0f && u < out_min) {
+        const float to_limit = out_min - p_term;
+        integ = (to_limit < pi->integrator) ? to_limit : pi->integrator;
+    }
+    /* 2. integrator bound (explicit compares so that NaN propagates) */
+    if (integ > out_max) {
+        integ = out_max;
+    } else if (integ < out_min) {
+        integ = out_min;
+    }
+    pi->integrator = integ;
+    u = p_term + integ;
+    /* 3. output limit (u already on a limit stays there: the same u) */
+    if (u >= out_max) {
+        u = out_max;
+        *at_limit = true;
+    } else if (u <= out_min) {
+        u = out_min;
+        *at_limit = true;
+    }
+    /* An infinite error would end on a limit, finite: error - error is +0
+     * for a finite error (u - +0 is u, bit for bit, -0 included) and NaN
+     * for NaN or an infinity, which so reaches the output. */
+    return u - (error - error);
+}
+
+/* The same on the limits stored in *pi. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_pi_step_unchecked_f32(mc_pi_f32_t *pi,
+                                                     float error)
+{
+    bool at_limit;
+    return mc_pi_step_within_unchecked_f32(pi, error, pi->out_min, pi->out_max,
+                                           &at_limit);
+}
+
+/* One controller sample; returns the limited output u_k, or NaN for a
+ * non-finite error (state untouched). Interrupt context: yes, bounded
+ * time, no division. */
 static inline float mc_pi_step_f32(mc_pi_f32_t *pi, float error)
 {
     if (!isfinite(error)) {
         return NAN;
     }
-    const float p_term = pi->kp * error;
-    float integ = pi->integrator + pi->ki_Ts * error;
-    /* 1. conditional integration: stop where the output meets the limit */
-    if (error > 0.0f && p_term + integ > pi->out_max) {
-        const float to_limit = pi->out_max - p_term;
-        integ = (to_limit > pi->integrator) ? to_limit : pi->integrator;
-    } else if (error < 0.0f && p_term + integ < pi->out_min) {
-        const float to_limit = pi->out_min - p_term;
-        integ = (to_limit < pi->integrator) ? to_limit : pi->integrator;
-    }
-    /* 2. integrator bound (explicit compares so that NaN propagates) */
-    if (integ > pi->out_max) {
-        integ = pi->out_max;
-    } else if (integ < pi->out_min) {
-        integ = pi->out_min;
-    }
-    pi->integrator = integ;
-    float u = p_term + integ;
-    if (u > pi->out_max) { /* 3. output limit */
-        u = pi->out_max;
-    } else if (u < pi->out_min) {
-        u = pi->out_min;
-    }
-    return u;
+    return mc_pi_step_unchecked_f32(pi, error);
 }
 
 #endif /* MC_PI_H */

@@ -49,7 +49,8 @@ void mc_speed_loop_reset_f32(mc_speed_loop_f32_t *sl);
 
 /* One sample: returns the q-axis current reference in A, limited to
  * +-i_q_max_A. Non-finite inputs give a non-finite output, which the
- * application turns into a fault. Interrupt context: yes. */
+ * application turns into a fault (a NaN speed error also leaves the
+ * integrator NaN until the next reset). Interrupt context: yes. */
 float mc_speed_loop_step_f32(mc_speed_loop_f32_t *sl, float omega_m_ref_rad_s,
                              float omega_m_rad_s);
 

@@ -8,8 +8,10 @@
 #include "mc_test.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "mc/current_loop.h"
+#include "mc/drive.h"
 #include "mc/position_loop.h"
 #include "mc/speed_loop.h"
 
@@ -152,6 +154,124 @@ static void test_voltage_limit_and_anti_windup(void **state)
     assert_int_equal(mc_current_loop_step_f32(&cl, 0, 0, 0, 0, 0, NAN, &out), MC_ERR_NONFINITE);
 }
 
+/* Inputs of one step: i_d, i_q, i_d_ref, i_q_ref (A), omega_e (rad/s). */
+enum { CL_IN_N = 5 };
+
+/* Saturated integrators (both axes wound up to the +- limits) or reset
+ * ones, for the propagation checks below. */
+static void cl_state(mc_current_loop_f32_t *cl, int kind)
+{
+    mc_current_loop_reset_f32(cl);
+    const float e = (kind == 1) ? 50.0f : -50.0f;
+    for (int k = 0; kind != 0 && k < 50; ++k) {
+        (void)mc_current_loop_step_unchecked_f32(cl, 0.0f, 0.0f, e, e, 0.0f, 48.0f);
+    }
+}
+
+/* The unchecked step (the drive's ISR path) gives what the checked one
+ * gives, bit for bit, saturated or not; a NaN or infinite current,
+ * reference or speed gives a non-finite v_d or v_q, whatever the
+ * integrators and the speed (the application checks them), and the
+ * checked step reports it. */
+static void test_current_loop_unchecked(void **state)
+{
+    (void)state;
+    mc_current_loop_params_t p = paper_params(2000.0f);
+    p.Ld_H = 3.0e-3f;
+    mc_current_loop_f32_t checked;
+    mc_current_loop_f32_t unchecked;
+    assert_int_equal(mc_current_loop_init_f32(&checked, &p), MC_OK);
+    unchecked = checked;
+    int saturated = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const float id = (float)urand(-10.0, 10.0), iq = (float)urand(-10.0, 10.0);
+        const float e = (i % 2) ? 0.5f : 50.0f; /* small errors, saturating ones */
+        const float id_ref = id + e * (float)urand(-1.0, 1.0);
+        const float iq_ref = iq + e * (float)urand(-1.0, 1.0);
+        const float w = (float)urand(-500.0, 500.0), v_dc = (float)urand(10.0, 100.0);
+        mc_current_loop_out_t o;
+        assert_int_equal(mc_current_loop_step_f32(&checked, id, iq, id_ref, iq_ref, w, v_dc, &o),
+                         MC_OK);
+        const mc_current_loop_out_t u =
+            mc_current_loop_step_unchecked_f32(&unchecked, id, iq, id_ref, iq_ref, w, v_dc);
+        assert_memory_equal(&u.v_d_V, &o.v_d_V, sizeof(float));
+        assert_memory_equal(&u.v_q_V, &o.v_q_V, sizeof(float));
+        assert_true(u.saturated == o.saturated);
+        saturated += o.saturated;
+    }
+    assert_true(saturated > 2000 && saturated < 18000);
+
+    const float bad[] = { NAN, INFINITY, -INFINITY };
+    const float speeds[] = { 0.0f, 300.0f, -300.0f };
+    for (int in = 0; in < CL_IN_N; ++in) {
+        for (size_t b = 0; b < sizeof bad / sizeof bad[0]; ++b) {
+            for (size_t w = 0; w < sizeof speeds / sizeof speeds[0]; ++w) {
+                for (int kind = 0; kind < 3; ++kind) {
+                    float x[CL_IN_N] = { 1.0f, 2.0f, 1.5f, 2.5f, speeds[w] };
+                    x[in] = bad[b];
+                    cl_state(&unchecked, kind);
+                    const mc_current_loop_out_t u = mc_current_loop_step_unchecked_f32(
+                        &unchecked, x[0], x[1], x[2], x[3], x[4], 48.0f);
+                    assert_false(isfinite(u.v_d_V) && isfinite(u.v_q_V));
+                    cl_state(&checked, kind);
+                    mc_current_loop_out_t o;
+                    assert_int_equal(
+                        mc_current_loop_step_f32(&checked, x[0], x[1], x[2], x[3], x[4], 48.0f, &o),
+                        MC_ERR_NONFINITE);
+                }
+            }
+        }
+    }
+}
+
+/* The drive's current step: a bus that is not finite or below FLT_MIN is
+ * the voltage fault, *t's voltages untouched; a non-finite current,
+ * reference or speed runs through to a non-finite v_d or v_q (the
+ * application's output check). */
+static void test_drive_current_step(void **state)
+{
+    (void)state;
+    mc_drive_t d;
+    memset(&d, 0, sizeof d);
+    const mc_current_loop_params_t p = paper_params(2000.0f);
+    assert_int_equal(mc_current_loop_init_f32(&d.current, &p), MC_OK);
+    d.n_p = 4.0f;
+    mc_telemetry_t t;
+    memset(&t, 0, sizeof t);
+    t.i_d_A = 0.5f;
+    t.i_q_A = 1.0f;
+    t.i_q_ref_A = 2.0f;
+    t.omega_m_rad_s = 50.0f;
+    t.v_dc_V = 48.0f;
+    assert_int_equal(mc_drive_current_step(&d, &t), MC_FAULT_NONE);
+    assert_true(isfinite(t.v_d_V) && isfinite(t.v_q_V) && t.v_q_V > 0.0f);
+
+    const float buses[] = { 0.0f, -0.0f, -48.0f, -INFINITY, NAN, INFINITY, 1e-40f };
+    for (size_t k = 0; k < sizeof buses / sizeof buses[0]; ++k) {
+        mc_telemetry_t tb = t;
+        tb.v_d_V = 7.0f;
+        tb.v_q_V = 8.0f;
+        tb.v_dc_V = buses[k];
+        const uint32_t expected =
+            (buses[k] <= 0.0f) ? MC_FAULT_DC_UNDERVOLTAGE : MC_FAULT_NONFINITE;
+        assert_int_equal(mc_drive_current_step(&d, &tb), expected);
+        assert_true(tb.v_d_V == 7.0f && tb.v_q_V == 8.0f);
+    }
+
+    const float bad[] = { NAN, INFINITY, -INFINITY };
+    for (int in = 0; in < CL_IN_N; ++in) {
+        for (size_t b = 0; b < sizeof bad / sizeof bad[0]; ++b) {
+            mc_current_loop_reset_f32(&d.current);
+            mc_telemetry_t tb = t;
+            float *const x[CL_IN_N] = { &tb.i_d_A, &tb.i_q_A, &tb.i_d_ref_A, &tb.i_q_ref_A,
+                                        &tb.omega_m_rad_s };
+            *x[in] = bad[b];
+            assert_int_equal(mc_drive_current_step(&d, &tb), MC_FAULT_NONE);
+            assert_false(isfinite(tb.v_d_V) && isfinite(tb.v_q_V));
+        }
+    }
+}
+
 /* Speed loop on the ideal mechanics J dw/dt = k_t i_q - T_L (exact per
  * sample): the load-step dip matches the analytic design
  * -(T_L/J)(2/w_s)/e within 3 % (discretisation at w_s Ts = 0.025), the
@@ -184,6 +304,19 @@ static void test_speed_loop_load_response(void **state)
     mc_speed_loop_reset_f32(&sl);
     assert_near(mc_speed_loop_step_f32(&sl, 1000.0f, 0.0f), 10.0f, 0.0f);
     assert_true(isnan(mc_speed_loop_step_f32(&sl, NAN, 0.0f)));
+    /* every non-finite input gives NaN, from any integrator state */
+    const float bad[] = { NAN, INFINITY, -INFINITY };
+    for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+        for (int wound = 0; wound < 2; wound++) {
+            mc_speed_loop_reset_f32(&sl);
+            for (int k = 0; wound && k < 100; k++) {
+                (void)mc_speed_loop_step_f32(&sl, 1000.0f, 0.0f);
+            }
+            mc_speed_loop_f32_t sl2 = sl;
+            assert_true(isnan(mc_speed_loop_step_f32(&sl, bad[b], 0.0f)));
+            assert_true(isnan(mc_speed_loop_step_f32(&sl2, 0.0f, bad[b])));
+        }
+    }
     /* A friction feed-forward gain B / k_t beyond float range is rejected
      * at init (finite inputs, infinite ratio), not a fault every step. */
     mc_speed_loop_params_t huge_b = p;
@@ -253,6 +386,8 @@ int main(void)
         cmocka_unit_test(test_current_closed_loop_is_first_order),
         cmocka_unit_test(test_decoupling_feed_forward),
         cmocka_unit_test(test_voltage_limit_and_anti_windup),
+        cmocka_unit_test(test_current_loop_unchecked),
+        cmocka_unit_test(test_drive_current_step),
         cmocka_unit_test(test_speed_loop_load_response),
         cmocka_unit_test(test_position_loop),
         cmocka_unit_test(test_loop_rate_limits),

@@ -128,6 +128,55 @@ static void test_pi_non_finite_error(void **state)
     assert_true(isnan(mc_pi_step_f32(&pi, 0.5f)));
 }
 
+/* The unchecked steps (ISR paths): for a finite error the checked step's
+ * output and state, bit for bit, on the stored or on passed limits, and
+ * at_limit exactly when the output sits on a limit; a NaN or infinite
+ * error gives NaN (never the finite limit the output clamp makes of an
+ * infinity), whatever the gains and the integrator. */
+static void test_pi_unchecked(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(57);
+    mc_pi_f32_t checked;
+    assert_int_equal(mc_pi_init_f32(&checked, 0.5f, 200.0f, 1e-4f, -1.0f, 1.0f), MC_OK);
+    mc_pi_f32_t stored = checked;
+    mc_pi_f32_t passed = checked;
+    for (int k = 0; k < 200000; k++) {
+        const float hi = (float)test_rng_range(&rng, -5.0, 30.0);
+        const float lo = hi - (float)test_rng_range(&rng, 1e-3, 30.0);
+        const float e = (float)test_rng_range(&rng, -50.0, 50.0);
+        assert_int_equal(mc_pi_set_limits_f32(&checked, lo, hi), MC_OK);
+        mc_pi_set_limits_unchecked_f32(&stored, lo, hi);
+        const float u = mc_pi_step_f32(&checked, e);
+        const float u_stored = mc_pi_step_unchecked_f32(&stored, e);
+        bool at_limit;
+        const float u_passed = mc_pi_step_within_unchecked_f32(&passed, e, lo, hi, &at_limit);
+        assert_memory_equal(&u_stored, &u, sizeof u);
+        assert_memory_equal(&u_passed, &u, sizeof u);
+        assert_true(at_limit == (u <= lo || u >= hi));
+        assert_memory_equal(&stored, &checked, sizeof checked);
+        assert_memory_equal(&passed.integrator, &checked.integrator, sizeof(float));
+    }
+    const float gains[][2] = { { 1.0f, 10.0f }, { 0.0f, 10.0f }, { 1.0f, 0.0f } };
+    const float integrators[] = { -5.0f, 0.0f, 5.0f };
+    const float bad[] = { NAN, INFINITY, -INFINITY };
+    for (size_t g = 0; g < sizeof gains / sizeof gains[0]; g++) {
+        for (size_t i = 0; i < sizeof integrators / sizeof integrators[0]; i++) {
+            for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+                mc_pi_f32_t pi;
+                assert_int_equal(mc_pi_init_f32(&pi, gains[g][0], gains[g][1], 1e-3f, -5.0f, 5.0f),
+                                 MC_OK);
+                mc_pi_reset_f32(&pi, integrators[i]);
+                mc_pi_f32_t pi2 = pi;
+                bool at_limit;
+                assert_true(isnan(mc_pi_step_unchecked_f32(&pi, bad[b])));
+                assert_true(
+                    isnan(mc_pi_step_within_unchecked_f32(&pi2, bad[b], -5.0f, 5.0f, &at_limit)));
+            }
+        }
+    }
+}
+
 static void assert_init_rejected(float kp, float ki, float Ts, float lo, float hi,
                                  mc_status_t expected)
 {
@@ -175,6 +224,7 @@ int main(void)
         cmocka_unit_test(test_pi_conditional_integration_freezes),
         cmocka_unit_test(test_pi_changing_limits),
         cmocka_unit_test(test_pi_non_finite_error),
+        cmocka_unit_test(test_pi_unchecked),
         cmocka_unit_test(test_pi_rejects_bad_parameters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -218,13 +218,46 @@ static void test_svpwm_unchecked_matches_and_propagates(void **state)
         mc_svpwm_unchecked_f32(a, b, (float)c.v_dc, c.limit, &unchecked);
         assert_memory_equal(&checked, &unchecked, sizeof checked);
     }
-    const float bad[][2] = {
-        { NAN, 1.0f }, { 1.0f, NAN }, { INFINITY, 0.0f }, { 3e38f, -3e38f }, { -3e38f, 3e38f }
-    };
+    const float bad[][2] = { { NAN, 1.0f },       { 1.0f, NAN },      { INFINITY, 0.0f },
+                             { -INFINITY, 1.0f }, { 0.0f, INFINITY }, { 1.0f, -INFINITY },
+                             { NAN, NAN },        { 3e38f, -3e38f },  { -3e38f, 3e38f } };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        mc_svpwm_out_f32_t o;
-        mc_svpwm_unchecked_f32(bad[i][0], bad[i][1], 300.0f, MC_SVPWM_LIMIT_CIRCLE, &o);
-        assert_false(isfinite(o.duty[0]) && isfinite(o.duty[1]) && isfinite(o.duty[2]));
+        for (int limit = 0; limit < 2; limit++) {
+            mc_svpwm_out_f32_t o;
+            mc_svpwm_unchecked_f32(bad[i][0], bad[i][1], 300.0f, (mc_svpwm_limit_t)limit, &o);
+            assert_false(isfinite(o.duty[0]) && isfinite(o.duty[1]) && isfinite(o.duty[2]));
+        }
+    }
+    /* (a bus that is not finite and >= FLT_MIN is the caller's check; a
+     * NaN one still reaches the duties) */
+    mc_svpwm_out_f32_t o;
+    mc_svpwm_unchecked_f32(1.0f, 2.0f, NAN, MC_SVPWM_LIMIT_CIRCLE, &o);
+    assert_false(isfinite(o.duty[0]) && isfinite(o.duty[1]) && isfinite(o.duty[2]));
+}
+
+/* The inline modulator against the out-of-line one (the whole algorithm:
+ * the limit, the clamp of the duties): the same output, bit for bit,
+ * inside the linear range, at its edge (MC_SVPWM_INLINE_SQ, where the
+ * inline one hands over) and beyond. */
+static void test_svpwm_inline_matches_edge(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(11);
+    const double edge = sqrt(3.0 * (double)MC_SVPWM_INLINE_SQ);
+    for (int n = 0; n < N_RANDOM; n++) {
+        command_t c = random_command(&rng, 0.0, 1.2);
+        if (n % 4 == 0) { /* around the hand-over */
+            c.mag = edge * test_rng_range(&rng, 1.0 - 1e-6, 1.0 + 1e-6) * c.v_dc / sqrt(3.0);
+        }
+        const float a = (float)(c.mag * cos(c.psi));
+        const float b = (float)(c.mag * sin(c.psi));
+        mc_svpwm_out_f32_t in;
+        mc_svpwm_unchecked_f32(a, b, (float)c.v_dc, c.limit, &in);
+        const mc_svpwm_out_f32_t out = mc_svpwm_edge_f32(a, b, (float)c.v_dc, c.limit);
+        assert_memory_equal(in.duty, out.duty, sizeof in.duty);
+        assert_true(in.overmodulated == out.overmodulated);
+        assert_memory_equal(&in.v_alpha_V, &out.v_alpha_V, sizeof(float));
+        assert_memory_equal(&in.v_beta_V, &out.v_beta_V, sizeof(float));
     }
 }
 
@@ -250,6 +283,7 @@ int main(void)
         cmocka_unit_test(test_svpwm_rejects_bad_input),
         cmocka_unit_test(test_svpwm_zero_vector),
         cmocka_unit_test(test_svpwm_unchecked_matches_and_propagates),
+        cmocka_unit_test(test_svpwm_inline_matches_edge),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
