@@ -47,7 +47,6 @@ mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
     app->enable_armed = true;
     app->cmd_buf[0].mode = MC_MODE_CURRENT;
     app->cmd_buf[1].mode = MC_MODE_CURRENT;
-    app->cmd = app->cmd_buf[0];
     *mc_app_tlm_begin(app) = (mc_telemetry_t){
         .state = MC_STATE_IDLE,
         .mode = MC_MODE_CURRENT,

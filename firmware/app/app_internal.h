@@ -21,6 +21,14 @@ typedef struct {
 mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
                              const mc_timing_t *tm);
 
+/* The command of this ISR: the buffer mc_app_set_command completed last
+ * (the writer runs in thread context, which the ISR preempts: the buffer
+ * does not change while the ISR runs). Interrupt context: yes. */
+static inline const mc_command_t *mc_app_command(const mc_app_t *app)
+{
+    return &app->cmd_buf[app->cmd_index & 1u];
+}
+
 /* Writing the telemetry record in place: begin makes the sequence counter
  * odd and returns the record, end makes it even again (the reader's side:
  * mc_app_get_telemetry). Used by init and by the fast ISR. Interrupt

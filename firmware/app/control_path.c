@@ -65,7 +65,7 @@ void mc_app_start_run(mc_app_t *app)
     d->v_d_last_V = 0.0f;
     d->v_q_last_V = 0.0f;
     mc_dispatch_controller_start(app);
-    app->mode = app->cmd.mode;
+    app->mode = mc_app_command(app)->mode;
     app->slow_count = 0u; /* the first RUN ISR ticks */
     app->state = MC_STATE_RUN;
 }

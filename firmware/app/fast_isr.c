@@ -47,16 +47,12 @@ static void record_fault(mc_app_t *app, uint32_t new_bits,
     app->history_seq = app->history_seq + 1u;
 }
 
-/* Latch faults; from any other state the PWM goes off right here (the
- * reaction: coast, mc/app.h). New bits are recorded, the first ones since
- * the last clear kept as the first fault. */
-static void raise_faults(mc_app_t *app, uint32_t faults,
+/* Latch the new fault bits; from any other state the PWM goes off right
+ * here (the reaction: coast, mc/app.h). They are recorded, the first ones
+ * since the last clear kept as the first fault. */
+static void latch_faults(mc_app_t *app, uint32_t new_bits,
                          const mc_telemetry_t *t)
 {
-    const uint32_t new_bits = faults & ~app->faults_latched;
-    if (new_bits == MC_FAULT_NONE) {
-        return;
-    }
     if (app->faults_latched == MC_FAULT_NONE) {
         app->first_fault = new_bits;
     }
@@ -66,6 +62,16 @@ static void raise_faults(mc_app_t *app, uint32_t faults,
         outputs_off();
         app->state = MC_STATE_FAULT;
         app->enable_armed = false;
+    }
+}
+
+/* Latch the bits of faults not latched yet (inline: usually none). */
+MC_STATIC_FORCEINLINE void raise_faults(mc_app_t *app, uint32_t faults,
+                                        const mc_telemetry_t *t)
+{
+    const uint32_t new_bits = faults & ~app->faults_latched;
+    if (new_bits != MC_FAULT_NONE) {
+        latch_faults(app, new_bits, t);
     }
 }
 
@@ -204,8 +210,7 @@ void mc_app_fast_isr(mc_app_t *app)
         app->slow_count = 0u;
     }
     app->drive.outer.tick = slow_tick;
-    app->cmd = app->cmd_buf[app->cmd_index & 1u];
-    const mc_command_t *cmd = &app->cmd;
+    const mc_command_t *cmd = mc_app_command(app);
 
     /* Sample (converted at this period's sampling instant). */
     hal_adc_sample_t adc;
@@ -289,8 +294,8 @@ void mc_app_fast_isr(mc_app_t *app)
         t->v_beta_V = 0.0f;
     }
     /* Finite here: checked in the control path, zero otherwise. */
-    (void)mc_applied_voltage_push_f32(&app->v_applied, t->v_alpha_V,
-                                      t->v_beta_V);
+    mc_applied_voltage_push_unchecked_f32(&app->v_applied, t->v_alpha_V,
+                                          t->v_beta_V);
 
     /* Deadline check: counted; the limit-th consecutive overrun is a
      * fault, PWM off in this ISR. */
@@ -321,8 +326,10 @@ void mc_app_fast_isr(mc_app_t *app)
     t->isr_cost_s = app->isr_cost_s;
     t->isr_cost_max_s = app->isr_cost_max_s;
     t->isr_overruns = app->isr_overruns;
-    for (uint32_t k = 0u; k < 3u; ++k) {
-        t->i_offset_abc_A[k] = app->i_offset_A[k];
+    if (!steady_run) { /* constant in RUN */
+        for (uint32_t k = 0u; k < 3u; ++k) {
+            t->i_offset_abc_A[k] = app->i_offset_A[k];
+        }
     }
     mc_app_tlm_end(app);
 }

@@ -33,14 +33,11 @@ mc_status_t mc_current_limit_init_f32(mc_current_limit_f32_t *cl,
     return MC_OK;
 }
 
-bool mc_current_limit_step_f32(mc_current_limit_f32_t *cl, float i_d_A,
-                               float i_q_A, float *v_d_V, float *v_q_V)
+/* The loop acting or winding back (mc_current_limit_step_f32 decided). */
+bool mc_current_limit_act_f32(mc_current_limit_f32_t *cl, float i_d_A,
+                              float i_q_A, float *v_d_V, float *v_q_V)
 {
     const float i_sq = i_d_A * i_d_A + i_q_A * i_q_A;
-    if (i_sq <= cl->limit_sq_A2 && cl->u_int_V == 0.0f) {
-        return false; /* the common case: no square root (a NaN current
-                         goes on and propagates into the command) */
-    }
     const float i_mag = sqrtf(i_sq); /* i_sq >= 0 (or NaN: propagates) */
     const float e = i_mag - cl->limit_A;
     float u_int = cl->u_int_V + cl->ki_Ts_V_per_A * e;

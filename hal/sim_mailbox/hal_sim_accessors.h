@@ -47,20 +47,26 @@ HAL_SIM_ACCESSOR void hal_gpio_debug_pin_set(bool level)
     HAL_SIM_MAILBOX->debug_pin = level;
 }
 
+/* A duty outside [0, 1]: the nearer bound; NaN: 0.5 (zero voltage). */
+static inline float hal_sim_duty_saturated(float d)
+{
+    if (isnan(d)) {
+        return 0.5f;
+    }
+    return (d < 0.0f) ? 0.0f : 1.0f;
+}
+
 /* The compare registers saturate: a duty outside [0, 1] is clamped and a
  * NaN gives 0.5 (zero voltage), whatever the firmware computed (the
- * contract: protect the hardware). */
+ * contract: protect the hardware). A duty within [0, 1] (both comparisons
+ * false for NaN) passes as it is. */
 HAL_SIM_ACCESSOR void hal_pwm_set_duties(const float duty_abc[3])
 {
     hal_sim_mailbox_t *m = HAL_SIM_MAILBOX;
     for (unsigned k = 0u; k < 3u; ++k) {
-        float d = duty_abc[k];
-        if (!(d >= 0.0f)) {
-            d = isnan(d) ? 0.5f : 0.0f;
-        } else if (d > 1.0f) {
-            d = 1.0f;
-        }
-        m->duty_abc[k] = d;
+        const float d = duty_abc[k];
+        m->duty_abc[k] =
+            (d >= 0.0f && d <= 1.0f) ? d : hal_sim_duty_saturated(d);
     }
 }
 

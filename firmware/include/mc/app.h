@@ -108,8 +108,7 @@ typedef struct {
     /* command double buffer (mc_app_set_command) */
     mc_command_t cmd_buf[2];
     volatile uint32_t cmd_index;
-    mc_command_t cmd; /* the ISR's copy */
-    mc_mode_t mode;   /* mode of the previous RUN ISR */
+    mc_mode_t mode; /* mode of the previous RUN ISR */
     /* calibration */
     uint32_t calib_count;
     float calib_sum_A[3];

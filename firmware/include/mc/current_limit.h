@@ -22,6 +22,7 @@
 
 #include <stdbool.h>
 
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 typedef struct {
@@ -60,7 +61,22 @@ static inline bool mc_current_limit_active_f32(const mc_current_limit_f32_t *cl)
  * while it acts. Bounded: one square root only above the limit or while
  * the integral winds back. Non-finite inputs propagate into the command.
  * Interrupt context: yes. */
-bool mc_current_limit_step_f32(mc_current_limit_f32_t *cl, float i_d_A,
-                               float i_q_A, float *v_d_V, float *v_q_V);
+/* The part of the step below that runs only above the limit or while the
+ * integral winds back. Interrupt context: yes. */
+bool mc_current_limit_act_f32(mc_current_limit_f32_t *cl, float i_d_A,
+                              float i_q_A, float *v_d_V, float *v_q_V);
+
+/* Interrupt context: yes. */
+MC_STATIC_FORCEINLINE bool mc_current_limit_step_f32(mc_current_limit_f32_t *cl,
+                                                     float i_d_A, float i_q_A,
+                                                     float *v_d_V, float *v_q_V)
+{
+    const float i_sq = i_d_A * i_d_A + i_q_A * i_q_A;
+    if (i_sq <= cl->limit_sq_A2 && cl->u_int_V == 0.0f) {
+        return false; /* the common case: no square root (a NaN current
+                         goes on and propagates into the command) */
+    }
+    return mc_current_limit_act_f32(cl, i_d_A, i_q_A, v_d_V, v_q_V);
+}
 
 #endif /* MC_CURRENT_LIMIT_H */

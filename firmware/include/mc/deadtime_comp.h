@@ -28,6 +28,7 @@
 
 #include <stdbool.h>
 
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 /* Largest dead-time error per period, as a duty (t_d f + v_f / v_dc_min):
@@ -63,8 +64,19 @@ mc_status_t mc_deadtime_comp_init_f32(mc_deadtime_comp_f32_t *dc,
  * bus v_dc_V (> 0: checked by the modulator). A duty pushed outside
  * [0, 1] is limited there and reported (true): the command was not fully
  * applied. Inactive: duties untouched, false. Interrupt context: yes. */
-bool mc_deadtime_comp_apply_f32(const mc_deadtime_comp_f32_t *dc,
-                                const float i_abc_A[3], float v_dc_V,
-                                float duty[3]);
+/* The compensation proper (mc_deadtime_comp_apply_f32 on an active
+ * block). Interrupt context: yes. */
+bool mc_deadtime_comp_apply_active_f32(const mc_deadtime_comp_f32_t *dc,
+                                       const float i_abc_A[3], float v_dc_V,
+                                       float duty[3]);
+
+/* Interrupt context: yes. */
+MC_STATIC_FORCEINLINE bool
+mc_deadtime_comp_apply_f32(const mc_deadtime_comp_f32_t *dc,
+                           const float i_abc_A[3], float v_dc_V, float duty[3])
+{
+    return dc->active &&
+           mc_deadtime_comp_apply_active_f32(dc, i_abc_A, v_dc_V, duty);
+}
 
 #endif /* MC_DEADTIME_COMP_H */

@@ -133,8 +133,20 @@ mc_applied_voltage_last_f32(const mc_applied_voltage_f32_t *av,
     *v_beta_V = w_old * av->v_older_V[1] + w_new * av->v_newer_V[1];
 }
 
-/* Record the voltage commanded in ISR k (as the inverter will produce it).
- * Non-finite: MC_ERR_NONFINITE, state untouched. Interrupt context: yes. */
+/* Record the voltage commanded in ISR k (as the inverter will produce it),
+ * finite: the caller has checked it. Interrupt context: yes. */
+static inline void
+mc_applied_voltage_push_unchecked_f32(mc_applied_voltage_f32_t *av,
+                                      float v_alpha_V, float v_beta_V)
+{
+    av->v_older_V[0] = av->v_newer_V[0];
+    av->v_older_V[1] = av->v_newer_V[1];
+    av->v_newer_V[0] = v_alpha_V;
+    av->v_newer_V[1] = v_beta_V;
+}
+
+/* The same for any value: non-finite gives MC_ERR_NONFINITE, state
+ * untouched. Interrupt context: yes. */
 static inline mc_status_t
 mc_applied_voltage_push_f32(mc_applied_voltage_f32_t *av, float v_alpha_V,
                             float v_beta_V)
@@ -142,10 +154,7 @@ mc_applied_voltage_push_f32(mc_applied_voltage_f32_t *av, float v_alpha_V,
     if (!isfinite(v_alpha_V) || !isfinite(v_beta_V)) {
         return MC_ERR_NONFINITE;
     }
-    av->v_older_V[0] = av->v_newer_V[0];
-    av->v_older_V[1] = av->v_newer_V[1];
-    av->v_newer_V[0] = v_alpha_V;
-    av->v_newer_V[1] = v_beta_V;
+    mc_applied_voltage_push_unchecked_f32(av, v_alpha_V, v_beta_V);
     return MC_OK;
 }
 

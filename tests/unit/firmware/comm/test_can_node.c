@@ -385,7 +385,7 @@ static void test_enable_speed_reaches_drive(void **state)
     const mc_telemetry_t t = bench_tlm(&bench);
     assert_int_equal(t.state, MC_STATE_RUN);
     assert_int_equal(t.mode, MC_MODE_SPEED);
-    assert_true(bench.app.cmd.omega_m_ref_rad_s == 100.0f); /* the ISR's copy */
+    assert_true(bench_app_command(&bench).omega_m_ref_rad_s == 100.0f); /* the ISR's */
     assert_true(bench.mb.pwm_outputs_enabled);
     /* Enable 0 stops it in the next ISR */
     bench_send_u8(&bench, MSG_ENABLE, 0u);
@@ -631,11 +631,11 @@ static void test_timeout_latches_comm_fault(void **state)
     bench_poll(&bench);
     assert_true(bench_app_command(&bench).clear_fault);
     mc_app_fast_isr(&bench.app);
-    assert_true(bench.app.cmd.clear_fault); /* the ISR's copy */
+    assert_true(bench_app_command(&bench).clear_fault); /* the ISR's */
     bench_poll(&bench);
     assert_false(bench_app_command(&bench).clear_fault);
     mc_app_fast_isr(&bench.app);
-    assert_false(bench.app.cmd.clear_fault);
+    assert_false(bench_app_command(&bench).clear_fault);
     t = bench_tlm(&bench);
     assert_int_equal(t.state, MC_STATE_IDLE);
     assert_int_equal(t.faults_latched, 0u);
