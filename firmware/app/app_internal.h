@@ -54,11 +54,6 @@ void mc_app_start_run(mc_app_t *app);
  * context: yes. */
 void mc_app_start_align(mc_app_t *app);
 
-/* One RUN sample of the control path: mode change, the controller, the
- * modulator, the output checks. Fault bits. Interrupt context: yes. */
-uint32_t mc_app_run(mc_app_t *app, const mc_command_t *cmd,
-                    const mc_frame_t *fr, mc_telemetry_t *t);
-
 /* One ALIGN sample (mc/align.h) through the current loop and the
  * modulator; once settled the estimator starts at the alignment angle and
  * RUN begins; a settle timeout is MC_FAULT_ESTIMATE. Fault bits.

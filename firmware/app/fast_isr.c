@@ -1,7 +1,7 @@
 /* The fast ISR: sample, protect, estimate, run the state machine, write
  * the duties, check the deadline, publish telemetry; the offset
  * calibration and the fault latching (see mc/app.h). The control path of
- * RUN and ALIGN is control_path.c. */
+ * RUN is run_path.h, of ALIGN control_path.c. */
 #include <math.h>
 #include <stdatomic.h>
 #include <string.h>
@@ -16,6 +16,7 @@
 #include "mc/angle.h"
 #include "mc/clarke.h"
 #include "mc/park.h"
+#include "run_path.h"
 
 #define MC_DUTY_ZERO_VOLTAGE 0.5f
 

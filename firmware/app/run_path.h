@@ -1,0 +1,99 @@
+/*
+ * The RUN sample of the control path (mode change, the controller, the
+ * current limit, the modulator, the output checks) and the modulator and
+ * output check it shares with the ALIGN sample (control_path.c): inline
+ * into the fast ISR, no call on its path. Private to firmware/app.
+ */
+#ifndef MC_APP_RUN_PATH_H
+#define MC_APP_RUN_PATH_H
+
+#include <float.h>
+#include <math.h>
+
+#include "app_internal.h"
+#include "dispatch.h"
+#include "mc/angle.h"
+#include "mc/compiler.h"
+#include "mc/park.h"
+#include "mc/svpwm.h"
+
+/* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
+ * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit,
+ * the dead-time compensation. Also fills the alpha/beta voltage the
+ * inverter will apply. */
+MC_STATIC_FORCEINLINE uint32_t mc_app_modulate(mc_app_t *app,
+                                               const mc_frame_t *fr,
+                                               mc_telemetry_t *t)
+{
+    float s;
+    float c;
+    mc_delay_comp_sincos_f32(&app->delay_comp, t->theta_e_rad,
+                             app->drive.n_p * t->omega_m_rad_s, fr->s, fr->c,
+                             &s, &c);
+    float v_al;
+    float v_be;
+    mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
+    /* The bus here, the duties in check_outputs: the modulator itself runs
+     * unchecked (a non-finite voltage gives non-finite duties). */
+    if (!(t->v_dc_V >= FLT_MIN)) {
+        return mc_drive_voltage_fault(t->v_dc_V);
+    }
+    mc_svpwm_out_f32_t pwm;
+    mc_svpwm_unchecked_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm);
+    t->v_alpha_V = pwm.v_alpha_V;
+    t->v_beta_V = pwm.v_beta_V;
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        t->duty_abc[k] = pwm.duty[k];
+    }
+    /* the inverter's dead time and drops: the duties deliver the command
+     * on average (mc/deadtime_comp.h) */
+    const bool limited = mc_deadtime_comp_apply_f32(
+        &app->drive.deadtime, t->i_abc_A, t->v_dc_V, t->duty_abc);
+    t->v_saturated = t->v_saturated || pwm.overmodulated || limited;
+    return MC_FAULT_NONE;
+}
+
+/* Non-finite anywhere in references or outputs is a fault. */
+MC_STATIC_FORCEINLINE uint32_t mc_app_check_outputs(const mc_telemetry_t *t)
+{
+    const float x[] = { t->i_d_ref_A,  t->i_q_ref_A,   t->omega_m_ref_rad_s,
+                        t->i_d_A,      t->i_q_A,       t->v_d_V,
+                        t->v_q_V,      t->duty_abc[0], t->duty_abc[1],
+                        t->duty_abc[2] };
+    return mc_all_finite_f32(x, (uint32_t)(sizeof x / sizeof x[0]))
+               ? MC_FAULT_NONE
+               : MC_FAULT_NONFINITE;
+}
+
+/* One RUN sample of the control path: mode change, the controller, the
+ * modulator, the output checks. Fault bits. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
+                                          const mc_command_t *cmd,
+                                          const mc_frame_t *fr,
+                                          mc_telemetry_t *t)
+{
+    if (cmd->mode != app->mode) {
+        /* this ISR ticks for the slow loop, the next tick N ISRs on */
+        app->drive.outer.tick = true;
+        app->slow_count = (app->timing.slow_decimation > 1u) ? 1u : 0u;
+        mc_dispatch_controller_mode_change(app, app->mode, cmd->mode, t);
+        app->mode = cmd->mode;
+    }
+    t->theta_m_ref_rad = cmd->theta_m_ref_rad;
+    uint32_t faults = mc_dispatch_controller_step(app, cmd, t);
+    /* Every controller's voltage under the measured-current limit. */
+    t->current_limited = mc_current_limit_step_f32(
+        &app->drive.limit, t->i_d_A, t->i_q_A, &t->v_d_V, &t->v_q_V);
+    app->drive.v_d_last_V = t->v_d_V;
+    app->drive.v_q_last_V = t->v_q_V;
+    if (faults == MC_FAULT_NONE) {
+        faults = mc_app_modulate(app, fr, t);
+    }
+    faults |= mc_app_check_outputs(t);
+    if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {
+        faults |= MC_FAULT_NONFINITE;
+    }
+    return faults;
+}
+
+#endif /* MC_APP_RUN_PATH_H */
