@@ -71,3 +71,24 @@ uint32_t mc_flux_front_start(mc_flux_front_t *f, float theta_e_rad,
     f->theta_e_prev_rad = mc_flux_obs_theta_e_f32(&f->obs);
     return MC_FAULT_NONE;
 }
+
+uint32_t mc_flux_front_fault(mc_flux_front_t *f, mc_flux_front_sample_t s,
+                             mc_flux_front_speed_t sp, float theta_m_rad,
+                             const mc_estimate_bounds_t *b, mc_telemetry_t *t)
+{
+    const uint32_t rho_fault =
+        (s.rho_sq >= f->ratio_min_sq && s.rho_sq <= f->ratio_max_sq)
+            ? MC_FAULT_NONE
+            : MC_FAULT_ESTIMATE;
+    if (!(s.finite + sp.finite + theta_m_rad * 0.0f == 0.0f)) {
+        /* as the checked steps: the observer's first, the speed
+         * estimator's only after a finite observer step */
+        return (s.finite == 0.0f) ? (rho_fault | MC_FAULT_NONFINITE)
+                                  : MC_FAULT_NONFINITE;
+    }
+    mc_flux_front_publish(f, s.rho_sq, &sp, theta_m_rad, t);
+    return rho_fault |
+           (mc_estimate_bounds_hold(b, sp.omega_m_rad_s, sp.tau_L_Nm)
+                ? MC_FAULT_NONE
+                : MC_FAULT_ESTIMATE);
+}

@@ -23,11 +23,9 @@
 
 #include <math.h>
 
-/* 2*pi = TWO_PI_1 + TWO_PI_2 + TWO_PI_3: 8, 11 and 24 significant bits.
- * |k| <= 25000/(2*pi) < 2^12, so k*TWO_PI_1 and k*TWO_PI_2 are exact. */
-#define TWO_PI_1   0x1.92p+2f
-#define TWO_PI_2   0x1.fb4p-10f
-#define TWO_PI_3   0x1.4442d2p-22f
+/* 2*pi = MC_TWO_PI_1 + MC_TWO_PI_2 + MC_TWO_PI_3 (mc/angle.h): 8, 11 and
+ * 24 significant bits. |k| <= 25000/(2*pi) < 2^12, so k*MC_TWO_PI_1 and
+ * k*MC_TWO_PI_2 are exact. */
 #define INV_TWO_PI 0.159154943091895335769f
 
 /* pi/2 = HALF_PI_1 + HALF_PI_2 + HALF_PI_3: 8, 9 and 23 significant bits.
@@ -44,13 +42,7 @@
 #define COS_C2 4.165629297e-02f
 #define COS_C3 -1.359782298e-03f
 
-#define ATAN_A0 9.999961257e-01f
-#define ATAN_A1 -3.331736922e-01f
-#define ATAN_A2 1.980781555e-01f
-#define ATAN_A3 -1.323334128e-01f
-#define ATAN_A4 7.962366939e-02f
-#define ATAN_A5 -3.360421583e-02f
-#define ATAN_A6 6.811792031e-03f
+/* atan: MC_ATAN_A0..A6 in mc/angle.h (mc_atan2_unchecked_f32). */
 
 /* Nearest integer of x for |x| < 2^23 (no rintf: the M4F has no VRINT). */
 static int32_t round_to_i32(float x)
@@ -60,8 +52,7 @@ static int32_t round_to_i32(float x)
 
 static float reduce_two_pi(float theta_rad, int32_t k)
 {
-    const float k_f = (float)k;
-    return ((theta_rad - k_f * TWO_PI_1) - k_f * TWO_PI_2) - k_f * TWO_PI_3;
+    return mc_reduce_two_pi_f32(theta_rad, (float)k);
 }
 
 float mc_wrap_pi_f32(float theta_rad)
@@ -124,29 +115,7 @@ float mc_atan2_f32(float y, float x)
     if (!isfinite(x) || !isfinite(y)) {
         return NAN;
     }
-    const float abs_x = fabsf(x);
-    const float abs_y = fabsf(y);
-    const float big = (abs_x >= abs_y) ? abs_x : abs_y;
-    const float small = (abs_x >= abs_y) ? abs_y : abs_x;
-    if (big == 0.0f) {
-        return 0.0f; /* documented convention for the zero vector */
-    }
-    const float t = small / big; /* guarded: big > 0; t in [0, 1] */
-    const float t2 = t * t;
-    float a =
-        t *
-        (ATAN_A0 +
-         t2 * (ATAN_A1 +
-               t2 * (ATAN_A2 +
-                     t2 * (ATAN_A3 +
-                           t2 * (ATAN_A4 + t2 * (ATAN_A5 + t2 * ATAN_A6))))));
-    if (abs_y > abs_x) {
-        a = MC_HALF_PI_F - a; /* second octant */
-    }
-    if (x < 0.0f) {
-        a = MC_PI_F - a; /* left half plane */
-    }
-    return (y < 0.0f) ? -a : a;
+    return mc_atan2_unchecked_f32(y, x);
 }
 
 mc_status_t mc_unwrap_init_f32(mc_unwrap_f32_t *u, float theta_wrapped_rad)

@@ -24,7 +24,7 @@ mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
         return MC_ERR_PARAM;
     }
     et->cpr = cpr;
-    et->pole_pairs = pole_pairs;
+    et->n_p = (float)pole_pairs; /* <= 64: exact */
     et->offset_e_rad = offset_e_rad;
     et->rad_per_count = MC_TWO_PI_F / (float)cpr;
     /* < cpr / 2 + 2 (step_speed_max Ts < pi): no overflow */
@@ -46,45 +46,5 @@ mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et,
                                           uint32_t count,
                                           mc_encoder_estimate_t *out)
 {
-    if (count >= et->cpr) {
-        return MC_ERR_RANGE;
-    }
-    /* Centre of the count's interval, single turn, wrapped to (-pi, pi]. */
-    const float theta_meas =
-        mc_wrap_pi_f32(((float)count + 0.5f) * et->rad_per_count);
-    if (!et->primed) {
-        et->primed = true;
-        et->last_count = count;
-        et->position_counts = (int64_t)count;
-        et->theta_hat_rad = theta_meas;
-        et->omega_hat_rad_s = 0.0f;
-    }
-    /* Multi-turn position: count difference wrapped to [-cpr/2, cpr/2). */
-    int64_t delta = (int64_t)count - (int64_t)et->last_count;
-    const int64_t half = (int64_t)(et->cpr / 2u);
-    if (delta >= half) {
-        delta -= (int64_t)et->cpr;
-    } else if (delta < -half) {
-        delta += (int64_t)et->cpr;
-    }
-    et->position_counts += delta;
-    et->last_count = count;
-    const uint64_t step = (uint64_t)(delta < 0 ? -delta : delta);
-    out->count_jump = step > (uint64_t)et->step_max_counts;
-    if (out->count_jump) {
-        et->theta_hat_rad = theta_meas; /* follow it (header) */
-    }
-
-    /* Angle-tracking PLL (header): speed = integral branch. */
-    const float e = mc_angle_diff_f32(theta_meas, et->theta_hat_rad);
-    et->omega_hat_rad_s += et->ki_Ts_per_s * e;
-    et->theta_hat_rad =
-        mc_wrap_pi_f32(et->theta_hat_rad +
-                       et->Ts_s * (et->omega_hat_rad_s + et->kp_per_s * e));
-
-    out->theta_m_rad = ((float)et->position_counts + 0.5f) * et->rad_per_count;
-    out->theta_e_rad =
-        mc_wrap_pi_f32((float)et->pole_pairs * theta_meas + et->offset_e_rad);
-    out->omega_m_rad_s = et->omega_hat_rad_s;
-    return MC_OK;
+    return mc_encoder_tracker_update_inline_f32(et, count, out);
 }

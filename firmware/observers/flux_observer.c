@@ -33,6 +33,7 @@ mc_status_t mc_flux_obs_init_f32(mc_flux_obs_f32_t *obs,
     }
     obs->Ts_s = p->Ts_s;
     obs->R_ohm = p->R_ohm;
+    obs->half_R_ohm = 0.5f * p->R_ohm;
     obs->L_H = p->L_H;
     obs->psi_Wb = p->psi_Wb;
     obs->psi_sq_Wb2 = flux_sq;
@@ -69,33 +70,12 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
     if (!all_finite4(i_alpha_A, i_beta_A, v_alpha_V, v_beta_V)) {
         return MC_ERR_NONFINITE;
     }
-    const float Ts = obs->Ts_s;
-    const float half_R = 0.5f * obs->R_ohm;
-    /* gradient term of (12) at the previous sample (explicit Euler) */
-    const float ea = obs->eta_alpha_Wb;
-    const float eb = obs->eta_beta_Wb;
-    const float corr = obs->gamma * (obs->psi_sq_Wb2 - (ea * ea + eb * eb));
-    /* (12): measurable flux increment (mean v, trapezoid R i) + correction */
-    const float la =
-        obs->lambda_alpha_Wb +
-        Ts * (v_alpha_V - half_R * (obs->i_alpha_prev_A + i_alpha_A) +
-              corr * ea);
-    const float lb =
-        obs->lambda_beta_Wb +
-        Ts * (v_beta_V - half_R * (obs->i_beta_prev_A + i_beta_A) + corr * eb);
-    /* (14) */
-    const float na = la - obs->L_H * i_alpha_A;
-    const float nb = lb - obs->L_H * i_beta_A;
-    /* (13): angle of eta (atan2 of a finite pair is finite) */
-    if (!all_finite4(la, lb, na, nb)) {
+    /* the step on a copy, kept only if finite (state untouched otherwise) */
+    mc_flux_obs_f32_t next = *obs;
+    if (!(mc_flux_obs_update_f32(&next, i_alpha_A, i_beta_A, v_alpha_V,
+                                 v_beta_V) == 0.0f)) {
         return MC_ERR_NONFINITE;
     }
-    obs->lambda_alpha_Wb = la;
-    obs->lambda_beta_Wb = lb;
-    obs->eta_alpha_Wb = na;
-    obs->eta_beta_Wb = nb;
-    obs->i_alpha_prev_A = i_alpha_A;
-    obs->i_beta_prev_A = i_beta_A;
-    obs->theta_e_rad = mc_atan2_f32(nb, na);
+    *obs = next;
     return MC_OK;
 }

@@ -4,9 +4,6 @@
 
 #include <math.h>
 
-#include "mc/angle.h"
-
-#include "compensated_sum.h"
 #include "reset_angle.h"
 
 mc_status_t mc_pll_obs_init_f32(mc_pll_obs_f32_t *pll,
@@ -64,34 +61,11 @@ mc_status_t mc_pll_obs_step_f32(mc_pll_obs_f32_t *pll, float theta_obs_e_rad,
     if (!isfinite(theta_obs_e_rad) || !isfinite(tau_e_ff_Nm)) {
         return MC_ERR_NONFINITE;
     }
-    /* predict (explicit Euler of the mechanical model) and correct with
-     * the wrapped angle error; angle and speed are accumulated with
-     * compensation (see compensated_sum.h) */
-    const float w = pll->omega_m_rad_s;
-    const float theta_pred_offset = pll->np_Ts * w;
-    const float eps = mc_angle_diff_f32(theta_obs_e_rad,
-                                        pll->theta_e_rad + theta_pred_offset);
-    float theta_comp, w_comp;
-    float theta_new =
-        mc_kahan_add_f32(pll->theta_e_rad, pll->theta_comp_rad,
-                         theta_pred_offset + pll->l1_Ts * eps, &theta_comp);
-    const float w_new = mc_kahan_add_f32(
-        w, pll->omega_comp_rad_s,
-        pll->Ts_over_J * (tau_e_ff_Nm - pll->tau_L_Nm) + pll->l2_Ts * eps,
-        &w_comp);
-    const float tau_new = pll->tau_L_Nm - pll->l3_Ts * eps;
-    if (theta_new > MC_PI_F || theta_new <= -MC_PI_F) {
-        /* once per turn: the wrap's own rounding is not carried */
-        theta_new = mc_wrap_pi_f32(theta_new);
-    }
-    if (!isfinite(theta_new) || !isfinite(theta_comp) || !isfinite(w_new) ||
-        !isfinite(w_comp) || !isfinite(tau_new)) {
+    /* the step on a copy, kept only if finite (state untouched otherwise) */
+    mc_pll_obs_f32_t next = *pll;
+    if (!(mc_pll_obs_update_f32(&next, theta_obs_e_rad, tau_e_ff_Nm) == 0.0f)) {
         return MC_ERR_NONFINITE;
     }
-    pll->theta_e_rad = theta_new;
-    pll->theta_comp_rad = theta_comp;
-    pll->omega_m_rad_s = w_new;
-    pll->omega_comp_rad_s = w_comp;
-    pll->tau_L_Nm = tau_new;
+    *pll = next;
     return MC_OK;
 }

@@ -4,9 +4,6 @@
 
 #include <math.h>
 
-#include "mc/angle.h"
-
-#include "compensated_sum.h"
 #include "reset_angle.h"
 
 /* Jury test: both eigenvalues of the Euler map I + Ts A33 inside the unit
@@ -70,28 +67,11 @@ mc_status_t mc_speed_load_obs_step_f32(mc_speed_load_obs_f32_t *obs,
     if (!isfinite(theta_e_rad) || !isfinite(i_q_A)) {
         return MC_ERR_NONFINITE;
     }
-    /* Appendix A, corrected: the unwrapped increment theta_u,k - theta_u,k-1
-     * with the +-pi rule, never the unbounded unwrapped angle itself. */
-    const float d_theta = mc_angle_diff_f32(theta_e_rad, obs->theta_e_prev_rad);
-    const float w = obs->omega_m_rad_s;
-    const float tau = obs->tau_L_Nm;
-    /* innovation: measured minus predicted electrical angle increment */
-    const float nu = d_theta - obs->np_Ts * w;
-    /* Euler step of (15) on z = [w; tau] (derivation in the header) */
-    const float dw =
-        obs->a1 * nu + obs->Ts_over_J * (obs->kt_Nm_per_A * i_q_A - tau);
-    /* compensated accumulation of w_hat (see the header) */
-    float comp_new;
-    const float w_new =
-        mc_kahan_add_f32(w, obs->omega_comp_rad_s, dw, &comp_new);
-    const float tau_new = tau - obs->a2 * nu;
-    if (!isfinite(d_theta) || !isfinite(w_new) || !isfinite(comp_new) ||
-        !isfinite(tau_new)) {
+    /* the step on a copy, kept only if finite (state untouched otherwise) */
+    mc_speed_load_obs_f32_t next = *obs;
+    if (!(mc_speed_load_obs_update_f32(&next, theta_e_rad, i_q_A) == 0.0f)) {
         return MC_ERR_NONFINITE;
     }
-    obs->omega_m_rad_s = w_new;
-    obs->omega_comp_rad_s = comp_new;
-    obs->tau_L_Nm = tau_new;
-    obs->theta_e_prev_rad = theta_e_rad;
+    *obs = next;
     return MC_OK;
 }

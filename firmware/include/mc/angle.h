@@ -23,8 +23,11 @@
 #ifndef MC_ANGLE_H
 #define MC_ANGLE_H
 
+#include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 #define MC_PI_F      3.14159265358979323846f
@@ -39,6 +42,32 @@
 #define MC_SINCOS_MAX_ABS_ERR  3.0e-7f /* |sin - sin_exact|, same for cos */
 #define MC_ATAN2_MAX_ERR_RAD   1.0e-6f /* vs exact atan2 of the inputs */
 
+/* 2*pi = MC_TWO_PI_1 + MC_TWO_PI_2 + MC_TWO_PI_3: 8, 11 and 24 significant
+ * bits (the Cody-Waite split of mc/angle.c). */
+#define MC_TWO_PI_1 0x1.92p+2f
+#define MC_TWO_PI_2 0x1.fb4p-10f
+#define MC_TWO_PI_3 0x1.4442d2p-22f
+
+/* Minimax atan t = t (A0 + A1 t^2 + ... + A6 t^12) on 0 <= t <= 1
+ * (mc/angle.c). */
+#define MC_ATAN_A0 9.999961257e-01f
+#define MC_ATAN_A1 -3.331736922e-01f
+#define MC_ATAN_A2 1.980781555e-01f
+#define MC_ATAN_A3 -1.323334128e-01f
+#define MC_ATAN_A4 7.962366939e-02f
+#define MC_ATAN_A5 -3.360421583e-02f
+#define MC_ATAN_A6 6.811792031e-03f
+
+/* theta - k_f 2 pi with the three-part 2 pi: k_f P1 and k_f P2 are exact
+ * and so are the first two subtractions for an integer |k_f| < 2^12 (the
+ * accepted range); only the last term rounds (mc/angle.c). k_f = +-1 folds
+ * to three additions. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_reduce_two_pi_f32(float theta_rad, float k_f)
+{
+    return ((theta_rad - k_f * MC_TWO_PI_1) - k_f * MC_TWO_PI_2) -
+           k_f * MC_TWO_PI_3;
+}
+
 /*
  * Wrap theta to (-pi, pi]: returns theta - 2*pi*k for the integer k that
  * puts it there. Inputs already inside [-pi, pi] are returned bit-exactly.
@@ -49,12 +78,51 @@
  */
 float mc_wrap_pi_f32(float theta_rad);
 
+/*
+ * mc_wrap_pi_f32 for the angles of a tracking loop: the same result for
+ * every input (NaN for NaN), inline, and for |theta| <= 3 pi (the
+ * difference of two wrapped angles, a wrapped angle plus less than 2 pi)
+ * without the division by 2 pi: an angle inside (-pi, pi] is returned as
+ * it is, one outside is reduced by k = +-1 with the three-part 2 pi of
+ * mc_wrap_pi_f32 (the same operations, so the same float), and a result
+ * still outside (|theta| > 3 pi, Inf, NaN) is left to mc_wrap_pi_f32.
+ * Equality with mc_wrap_pi_f32: tests/unit/firmware/observers/
+ * test_pll_observer.c (every float with pi <= |theta| <= 4 pi, a grid of
+ * the rest). Interrupt context: yes.
+ */
+MC_STATIC_FORCEINLINE float mc_wrap_pi_near_f32(float theta_rad)
+{
+    if (fabsf(theta_rad) < MC_PI_F) {
+        return theta_rad; /* the common case; false for NaN */
+    }
+    float r;
+    if (theta_rad > MC_PI_F) {
+        r = mc_reduce_two_pi_f32(theta_rad, 1.0f);
+    } else if (theta_rad < -MC_PI_F) {
+        r = mc_reduce_two_pi_f32(theta_rad, -1.0f);
+    } else { /* +-pi (-pi is returned as +pi, the same angle), or NaN */
+        return (theta_rad == -MC_PI_F) ? MC_PI_F : theta_rad;
+    }
+    if (r > -MC_PI_F && r <= MC_PI_F) {
+        return r;
+    }
+    return mc_wrap_pi_f32(theta_rad); /* |theta| > 3 pi */
+}
+
 /* Signed shortest angle from b to a: wrap(a - b) in (-pi, pi].
  * Same range rules as mc_wrap_pi_f32 (applied to a - b). Interrupt context:
  * yes. */
 static inline float mc_angle_diff_f32(float a_rad, float b_rad)
 {
     return mc_wrap_pi_f32(a_rad - b_rad);
+}
+
+/* mc_angle_diff_f32 through mc_wrap_pi_near_f32: the same result, without
+ * the division for two angles in (-pi, pi] (or less than 3 pi apart).
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_angle_diff_near_f32(float a_rad, float b_rad)
+{
+    return mc_wrap_pi_near_f32(a_rad - b_rad);
 }
 
 /*
@@ -79,6 +147,38 @@ void mc_sincos_f32(float theta_rad, float *sin_out, float *cos_out);
  * one VDIV (14 cycles) (newlib atan2f: about 91). Interrupt context: yes.
  */
 float mc_atan2_f32(float y, float x);
+
+/* mc_atan2_f32 without its finiteness check, inline: the same result for
+ * finite inputs. A NaN or an infinity gives NaN or some angle (e.g. 0 for
+ * y = 0 and x = NaN): the caller checks the inputs, or values that imply
+ * them. One guarded division. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_atan2_unchecked_f32(float y, float x)
+{
+    const float abs_x = fabsf(x);
+    const float abs_y = fabsf(y);
+    const bool steep = abs_y > abs_x; /* second octant */
+    const float big = steep ? abs_y : abs_x;
+    const float small = steep ? abs_x : abs_y;
+    if (big == 0.0f) {
+        return 0.0f; /* documented convention for the zero vector */
+    }
+    const float t = small / big; /* guarded: big > 0 (or NaN); t in [0, 1] */
+    const float t2 = t * t;
+    float a =
+        t * (MC_ATAN_A0 +
+             t2 * (MC_ATAN_A1 +
+                   t2 * (MC_ATAN_A2 +
+                         t2 * (MC_ATAN_A3 +
+                               t2 * (MC_ATAN_A4 +
+                                     t2 * (MC_ATAN_A5 + t2 * MC_ATAN_A6))))));
+    if (steep) {
+        a = MC_HALF_PI_F - a;
+    }
+    if (x < 0.0f) {
+        a = MC_PI_F - a; /* left half plane */
+    }
+    return (y < 0.0f) ? -a : a;
+}
 
 /*
  * Unwrap operator A (paper 001, Appendix A): turns a sequence of wrapped

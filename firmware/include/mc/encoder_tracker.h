@@ -39,6 +39,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/angle.h"
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 /* Counts per revolution: at least 4; at most 2^23, the largest count for
@@ -51,7 +53,7 @@
 
 typedef struct {
     uint32_t cpr;
-    uint32_t pole_pairs;
+    float n_p; /* pole pairs (exact in float) */
     float offset_e_rad;
     float rad_per_count;
     uint32_t step_max_counts; /* largest plausible count step */
@@ -85,11 +87,71 @@ mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
                                         float offset_e_rad, float w_pll_rad_s,
                                         float step_speed_max_rad_s, float Ts_s);
 
+/* (float)x of a count, through the 32-bit conversion while x fits (the
+ * same float: both round the same integer to nearest; the 64-bit one is a
+ * library call on the M4). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_encoder_counts_to_f32(int64_t x)
+{
+    return (x == (int64_t)(int32_t)x) ? (float)(int32_t)x : (float)x;
+}
+
 /* One sample: count in [0, cpr) (MC_ERR_RANGE otherwise, state unchanged,
  * *out untouched). The count may move by less than cpr/2 between samples.
  * Interrupt context: yes (bounded). */
 mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et,
                                           uint32_t count,
                                           mc_encoder_estimate_t *out);
+
+/* mc_encoder_tracker_update_f32 inline, for the estimator's step. The
+ * wraps are mc_wrap_pi_f32's results (mc_wrap_pi_near_f32: the measured
+ * angle is in (0, 2 pi), the PLL's error a difference of two wrapped
+ * angles). Interrupt context: yes (bounded). */
+MC_STATIC_FORCEINLINE mc_status_t mc_encoder_tracker_update_inline_f32(
+    mc_encoder_tracker_f32_t *et, uint32_t count, mc_encoder_estimate_t *out)
+{
+    if (count >= et->cpr) {
+        return MC_ERR_RANGE;
+    }
+    /* Centre of the count's interval, single turn, wrapped to (-pi, pi]. */
+    const float theta_meas =
+        mc_wrap_pi_near_f32(((float)count + 0.5f) * et->rad_per_count);
+    if (!et->primed) {
+        et->primed = true;
+        et->last_count = count;
+        et->position_counts = (int64_t)count;
+        et->theta_hat_rad = theta_meas;
+        et->omega_hat_rad_s = 0.0f;
+    }
+    /* Multi-turn position: count difference wrapped to [-cpr/2, cpr/2)
+     * (counts below cpr <= 2^23: 32 bits suffice). */
+    int32_t delta = (int32_t)count - (int32_t)et->last_count;
+    const int32_t half = (int32_t)(et->cpr / 2u);
+    if (delta >= half) {
+        delta -= (int32_t)et->cpr;
+    } else if (delta < -half) {
+        delta += (int32_t)et->cpr;
+    }
+    et->position_counts += delta;
+    et->last_count = count;
+    const uint32_t step = (uint32_t)(delta < 0 ? -delta : delta);
+    out->count_jump = step > et->step_max_counts;
+    if (out->count_jump) {
+        et->theta_hat_rad = theta_meas; /* follow it (header) */
+    }
+
+    /* Angle-tracking PLL (header): speed = integral branch. */
+    const float e = mc_angle_diff_near_f32(theta_meas, et->theta_hat_rad);
+    et->omega_hat_rad_s += et->ki_Ts_per_s * e;
+    et->theta_hat_rad = mc_wrap_pi_near_f32(
+        et->theta_hat_rad +
+        et->Ts_s * (et->omega_hat_rad_s + et->kp_per_s * e));
+
+    out->theta_m_rad = (mc_encoder_counts_to_f32(et->position_counts) + 0.5f) *
+                       et->rad_per_count;
+    out->theta_e_rad =
+        mc_wrap_pi_near_f32(et->n_p * theta_meas + et->offset_e_rad);
+    out->omega_m_rad_s = et->omega_hat_rad_s;
+    return MC_OK;
+}
 
 #endif /* MC_ENCODER_TRACKER_H */

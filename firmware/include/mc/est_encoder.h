@@ -37,8 +37,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_encoder_step(mc_est_encoder_t *est,
                                                    mc_telemetry_t *t)
 {
     mc_encoder_estimate_t e;
-    if (mc_encoder_tracker_update_f32(&est->tracker, in->encoder_count, &e) !=
-            MC_OK ||
+    if (mc_encoder_tracker_update_inline_f32(&est->tracker, in->encoder_count,
+                                             &e) != MC_OK ||
         e.count_jump) {
         return MC_FAULT_ENCODER;
     }

@@ -21,6 +21,7 @@
 #include "mc/angle.h"
 #include "mc/compiler.h"
 #include "mc/drive_io.h"
+#include "mc/estimate_bounds.h"
 #include "mc/estimator.h"
 #include "mc/faults.h"
 #include "mc/flux_observer.h"
@@ -65,68 +66,107 @@ void mc_flux_front_hold(mc_flux_front_t *f, float theta_e_rad);
 uint32_t mc_flux_front_start(mc_flux_front_t *f, float theta_e_rad,
                              const mc_est_input_t *in);
 
-/* One sample. Held (not running): the hold angle, the position, zero
- * speed and load into *t, returns false. Running: one observer step,
- * *theta_obs_rad its angle, *i_q_mean_A the q current over the interval,
- * returns true; *faults gets ESTIMATE (|rho_hat| implausible) or
- * NONFINITE (then false). t->flux_ratio_sq either way.
- * Interrupt context: yes. */
-MC_STATIC_FORCEINLINE bool
-mc_flux_front_step(mc_flux_front_t *f, const mc_est_input_t *in,
-                   mc_telemetry_t *t, float *theta_obs_rad, float *i_q_mean_A,
-                   uint32_t *faults)
+/* Held (not running): the hold angle, the position, zero speed and load
+ * and the observer's |rho_hat|^2 into *t. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void mc_flux_front_held(const mc_flux_front_t *f,
+                                              const mc_est_input_t *in,
+                                              mc_telemetry_t *t)
 {
     t->flux_ratio_sq = mc_flux_obs_rho_sq_f32(&f->obs);
-    *faults = MC_FAULT_NONE;
-    if (!in->running) {
-        t->theta_e_rad = in->theta_e_hold_rad;
-        t->theta_m_rad = f->theta_m_rad;
-        t->omega_m_rad_s = 0.0f;
-        t->tau_L_hat_Nm = 0.0f;
-        return false;
-    }
+    t->theta_e_rad = in->theta_e_hold_rad;
+    t->theta_m_rad = f->theta_m_rad;
+    t->omega_m_rad_s = 0.0f;
+    t->tau_L_hat_Nm = 0.0f;
+}
+
+/* What one running sample of the front end gives the speed estimator. */
+typedef struct {
+    float theta_obs_rad; /* the observer's angle (13), [-pi, pi] */
+    float i_q_mean_A;    /* the q current over the interval */
+    float rho_sq;        /* |rho_hat|^2 */
+    float finite;        /* +-0 if the observer's step is finite, else NaN
+                            (mc_flux_obs_update_f32) */
+} mc_flux_front_sample_t;
+
+/* What the speed estimator behind the front end made of the sample. */
+typedef struct {
+    float theta_e_rad; /* the reported angle, (-pi, pi] */
+    float omega_m_rad_s;
+    float tau_L_Nm;
+    float finite; /* +-0 if its new states are finite, else NaN */
+} mc_flux_front_speed_t;
+
+/* Running: one observer step (unchecked: mc_flux_front_finish checks the
+ * sample once), its angle, |rho_hat|^2 and the q current over the interval
+ * (trapezoid of i_q_hat at both samples). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE mc_flux_front_sample_t
+mc_flux_front_update(mc_flux_front_t *f, const mc_est_input_t *in)
+{
     float v_al;
     float v_be;
     mc_applied_voltage_last_f32(in->v_applied, &v_al, &v_be);
-    if (mc_flux_obs_step_f32(&f->obs, in->i_alpha_A, in->i_beta_A, v_al,
-                             v_be) != MC_OK) {
-        *faults = MC_FAULT_NONFINITE;
-        return false;
-    }
-    *theta_obs_rad = mc_flux_obs_theta_e_f32(&f->obs);
-    const float rho_sq = mc_flux_obs_rho_sq_f32(&f->obs);
-    t->flux_ratio_sq = rho_sq;
-    if (!(rho_sq >= f->ratio_min_sq && rho_sq <= f->ratio_max_sq)) {
-        *faults = MC_FAULT_ESTIMATE;
-    }
+    mc_flux_front_sample_t s;
+    s.finite = mc_flux_obs_update_f32(&f->obs, in->i_alpha_A, in->i_beta_A,
+                                      v_al, v_be);
+    s.theta_obs_rad = mc_flux_obs_theta_e_f32(&f->obs);
+    s.rho_sq = mc_flux_obs_rho_sq_f32(&f->obs);
     /* i_q over [t_{k-1}, t_k]: trapezoid of the two samples. */
     const float i_q_hat =
         mc_flux_obs_iq_f32(&f->obs, in->i_alpha_A, in->i_beta_A);
-    *i_q_mean_A = 0.5f * (i_q_hat + f->i_q_hat_prev_A);
+    s.i_q_mean_A = 0.5f * (i_q_hat + f->i_q_hat_prev_A);
     f->i_q_hat_prev_A = i_q_hat;
-    return true;
+    return s;
 }
 
-/* After the speed estimator set t->theta_e_rad: the multi-turn position
- * into t->theta_m_rad. Interrupt context: yes. */
-MC_STATIC_FORCEINLINE void mc_flux_front_track(mc_flux_front_t *f,
-                                               mc_telemetry_t *t)
-{
-    f->theta_m_rad +=
-        mc_angle_diff_f32(t->theta_e_rad, f->theta_e_prev_rad) / f->n_p;
-    f->theta_e_prev_rad = t->theta_e_rad;
-    t->theta_m_rad = f->theta_m_rad;
-}
-
-/* Fault bits of a speed estimator's status: ESTIMATE for an estimate out
- * of its bounds (MC_ERR_RANGE), NONFINITE for anything else.
+/* The sample's estimates into *t and the position into the front end.
  * Interrupt context: yes. */
-MC_STATIC_FORCEINLINE uint32_t mc_flux_front_bounds_fault(mc_status_t st)
+MC_STATIC_FORCEINLINE void
+mc_flux_front_publish(mc_flux_front_t *f, float rho_sq,
+                      const mc_flux_front_speed_t *sp, float theta_m_rad,
+                      mc_telemetry_t *t)
 {
-    if (st == MC_ERR_RANGE) {
-        return MC_FAULT_ESTIMATE;
+    f->theta_m_rad = theta_m_rad;
+    t->flux_ratio_sq = rho_sq;
+    t->theta_e_rad = sp->theta_e_rad;
+    t->theta_m_rad = theta_m_rad;
+    t->omega_m_rad_s = sp->omega_m_rad_s;
+    t->tau_L_hat_Nm = sp->tau_L_Nm;
+}
+
+/* The fault bits of a sample that failed mc_flux_front_finish's common
+ * case (see there), and its estimates published if they are finite.
+ * Interrupt context: yes. */
+uint32_t mc_flux_front_fault(mc_flux_front_t *f, mc_flux_front_sample_t s,
+                             mc_flux_front_speed_t sp, float theta_m_rad,
+                             const mc_estimate_bounds_t *b, mc_telemetry_t *t);
+
+/* After the speed estimator's step: the multi-turn position from the
+ * reported angle's increment / n_p, ONE finiteness test over the sample's
+ * new states and outputs, the estimates into *t and the fault bits:
+ * NONFINITE for a non-finite value (with ESTIMATE for an implausible
+ * |rho_hat| if the observer's step itself was finite, as the checked
+ * steps report it; *t and the position keep the last sample's values),
+ * else ESTIMATE for |rho_hat| outside [ratio_min, ratio_max] or an
+ * estimate outside *b. On NONFINITE the observers' states may hold NaN:
+ * the fault stops RUN, which restarts through hold (the position) and
+ * start (every other state this step writes). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t
+mc_flux_front_finish(mc_flux_front_t *f, const mc_flux_front_sample_t *s,
+                     const mc_flux_front_speed_t *sp,
+                     const mc_estimate_bounds_t *b, mc_telemetry_t *t)
+{
+    const float theta_m =
+        f->theta_m_rad +
+        mc_angle_diff_near_f32(sp->theta_e_rad, f->theta_e_prev_rad) / f->n_p;
+    f->theta_e_prev_rad = sp->theta_e_rad;
+    /* the common case in one chain of comparisons, each false for NaN */
+    if (s->finite + sp->finite + theta_m * 0.0f == 0.0f &&
+        s->rho_sq >= f->ratio_min_sq && s->rho_sq <= f->ratio_max_sq &&
+        mc_estimate_bounds_hold(b, sp->omega_m_rad_s, sp->tau_L_Nm)) {
+        mc_flux_front_publish(f, s->rho_sq, sp, theta_m, t);
+        return MC_FAULT_NONE;
     }
-    return (st == MC_OK) ? MC_FAULT_NONE : MC_FAULT_NONFINITE;
+    return mc_flux_front_fault(f, *s, *sp, theta_m, b, t);
 }
 
 #endif /* MC_EST_FLUX_FRONT_H */

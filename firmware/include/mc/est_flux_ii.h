@@ -34,22 +34,20 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_ii_step(mc_est_flux_ii_t *est,
                                                    const mc_est_input_t *in,
                                                    mc_telemetry_t *t)
 {
-    float theta_obs;
-    float i_q_mean;
-    uint32_t faults;
-    if (!mc_flux_front_step(&est->front, in, t, &theta_obs, &i_q_mean,
-                            &faults)) {
-        return faults;
+    if (!in->running) {
+        mc_flux_front_held(&est->front, in, t);
+        return MC_FAULT_NONE;
     }
-    mc_status_t st = mc_speed_load_obs_step_f32(&est->ii, theta_obs, i_q_mean);
-    if (st == MC_OK) {
-        st = mc_speed_load_obs_check_f32(&est->ii);
-    }
-    t->theta_e_rad = theta_obs;
-    t->omega_m_rad_s = mc_speed_load_obs_omega_m_f32(&est->ii);
-    t->tau_L_hat_Nm = mc_speed_load_obs_tau_L_f32(&est->ii);
-    mc_flux_front_track(&est->front, t);
-    return faults | mc_flux_front_bounds_fault(st);
+    const mc_flux_front_sample_t s = mc_flux_front_update(&est->front, in);
+    const float finite =
+        mc_speed_load_obs_update_f32(&est->ii, s.theta_obs_rad, s.i_q_mean_A);
+    const mc_flux_front_speed_t sp = {
+        .finite = finite,
+        .theta_e_rad = s.theta_obs_rad,
+        .omega_m_rad_s = mc_speed_load_obs_omega_m_f32(&est->ii),
+        .tau_L_Nm = mc_speed_load_obs_tau_L_f32(&est->ii),
+    };
+    return mc_flux_front_finish(&est->front, &s, &sp, &est->ii.bounds, t);
 }
 
 #endif /* MC_EST_FLUX_II_H */

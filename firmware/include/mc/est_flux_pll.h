@@ -33,24 +33,21 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
                                                     const mc_est_input_t *in,
                                                     mc_telemetry_t *t)
 {
-    float theta_obs;
-    float i_q_mean;
-    uint32_t faults;
-    if (!mc_flux_front_step(&est->front, in, t, &theta_obs, &i_q_mean,
-                            &faults)) {
-        return faults;
+    if (!in->running) {
+        mc_flux_front_held(&est->front, in, t);
+        return MC_FAULT_NONE;
     }
+    const mc_flux_front_sample_t s = mc_flux_front_update(&est->front, in);
     /* Electrical-torque feed-forward kt i_q over the interval. */
-    mc_status_t st = mc_pll_obs_step_f32(&est->pll, theta_obs,
-                                         est->front.kt_Nm_per_A * i_q_mean);
-    if (st == MC_OK) {
-        st = mc_pll_obs_check_f32(&est->pll);
-    }
-    t->theta_e_rad = mc_pll_obs_theta_e_f32(&est->pll);
-    t->omega_m_rad_s = mc_pll_obs_omega_m_f32(&est->pll);
-    t->tau_L_hat_Nm = mc_pll_obs_tau_L_f32(&est->pll);
-    mc_flux_front_track(&est->front, t);
-    return faults | mc_flux_front_bounds_fault(st);
+    const float finite = mc_pll_obs_update_f32(
+        &est->pll, s.theta_obs_rad, est->front.kt_Nm_per_A * s.i_q_mean_A);
+    const mc_flux_front_speed_t sp = {
+        .finite = finite,
+        .theta_e_rad = mc_pll_obs_theta_e_f32(&est->pll),
+        .omega_m_rad_s = mc_pll_obs_omega_m_f32(&est->pll),
+        .tau_L_Nm = mc_pll_obs_tau_L_f32(&est->pll),
+    };
+    return mc_flux_front_finish(&est->front, &s, &sp, &est->pll.bounds, t);
 }
 
 #endif /* MC_EST_FLUX_PLL_H */

@@ -13,7 +13,9 @@
 #define MC_ESTIMATE_BOUNDS_H
 
 #include <math.h>
+#include <stdbool.h>
 
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 typedef struct {
@@ -31,6 +33,16 @@ mc_estimate_bounds_validate(const mc_estimate_bounds_t *b)
     return ok ? MC_OK : MC_ERR_PARAM;
 }
 
+/* True if |omega_m_rad_s| <= omega_m_max and |tau_Nm| <= tau_max; false
+ * for NaN and Inf too (the bounds are finite). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE bool
+mc_estimate_bounds_hold(const mc_estimate_bounds_t *b, float omega_m_rad_s,
+                        float tau_Nm)
+{
+    return fabsf(omega_m_rad_s) <= b->omega_m_max_rad_s &&
+           fabsf(tau_Nm) <= b->tau_max_Nm;
+}
+
 /* MC_OK if |omega_m_rad_s| <= omega_m_max and |tau_Nm| <= tau_max,
  * MC_ERR_NONFINITE for NaN/Inf, MC_ERR_RANGE otherwise.
  * Interrupt context: yes. */
@@ -38,10 +50,8 @@ static inline mc_status_t
 mc_estimate_bounds_check(const mc_estimate_bounds_t *b, float omega_m_rad_s,
                          float tau_Nm)
 {
-    /* the common case first: both comparisons are false for NaN and Inf
-     * (the bounds are finite) */
-    if (fabsf(omega_m_rad_s) <= b->omega_m_max_rad_s &&
-        fabsf(tau_Nm) <= b->tau_max_Nm) {
+    /* the common case first */
+    if (mc_estimate_bounds_hold(b, omega_m_rad_s, tau_Nm)) {
         return MC_OK;
     }
     if (!isfinite(omega_m_rad_s) || !isfinite(tau_Nm)) {

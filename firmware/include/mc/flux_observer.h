@@ -54,6 +54,8 @@
 #ifndef MC_FLUX_OBSERVER_H
 #define MC_FLUX_OBSERVER_H
 
+#include "mc/angle.h"
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 /* Paper 001, Section 5. */
@@ -70,6 +72,7 @@ typedef struct {
 typedef struct {
     /* configuration (from init) */
     float Ts_s, R_ohm, L_H;
+    float half_R_ohm;     /* R/2 (trapezoid) */
     float psi_Wb;         /* Phi */
     float psi_sq_Wb2;     /* Phi^2 */
     float inv_psi_per_Wb; /* 1/Phi */
@@ -111,17 +114,61 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
                                  float i_beta_A, float v_alpha_V,
                                  float v_beta_V);
 
+/*
+ * The step of mc_flux_obs_step_f32 without its checks, inline, for a
+ * caller that checks a whole sample once: the same operations, written
+ * into *obs whatever they give (NaN and Inf propagate into the state).
+ * Returns eta_alpha * 0 + eta_beta * 0, +-0 if the step's inputs and
+ * results are all finite and NaN otherwise (the aggregate of mc/finite.h:
+ * eta = lambda - L i is non-finite whenever a current, a voltage, a flux
+ * or the previous state is, so the two new eta decide). Interrupt context:
+ * yes (no division but atan2's, no sqrt).
+ */
+MC_STATIC_FORCEINLINE float
+mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
+                       float v_alpha_V, float v_beta_V)
+{
+    const float Ts = obs->Ts_s;
+    const float half_R = obs->half_R_ohm;
+    /* gradient term of (12) at the previous sample (explicit Euler) */
+    const float ea = obs->eta_alpha_Wb;
+    const float eb = obs->eta_beta_Wb;
+    const float corr = obs->gamma * (obs->psi_sq_Wb2 - (ea * ea + eb * eb));
+    /* (12): measurable flux increment (mean v, trapezoid R i) + correction */
+    const float la =
+        obs->lambda_alpha_Wb +
+        Ts * (v_alpha_V - half_R * (obs->i_alpha_prev_A + i_alpha_A) +
+              corr * ea);
+    const float lb =
+        obs->lambda_beta_Wb +
+        Ts * (v_beta_V - half_R * (obs->i_beta_prev_A + i_beta_A) + corr * eb);
+    obs->lambda_alpha_Wb = la;
+    obs->lambda_beta_Wb = lb;
+    obs->i_alpha_prev_A = i_alpha_A; /* for the next trapezoid */
+    obs->i_beta_prev_A = i_beta_A;
+    /* (14) */
+    const float na = la - obs->L_H * i_alpha_A;
+    const float nb = lb - obs->L_H * i_beta_A;
+    obs->eta_alpha_Wb = na;
+    obs->eta_beta_Wb = nb;
+    /* (13): angle of eta (finite for a finite eta) */
+    obs->theta_e_rad = mc_atan2_unchecked_f32(nb, na);
+    return na * 0.0f + nb * 0.0f;
+}
+
 /* Estimated electrical angle theta_e_hat of the last step, [-pi, pi].
  * Interrupt context: yes. */
-static inline float mc_flux_obs_theta_e_f32(const mc_flux_obs_f32_t *obs)
+MC_STATIC_FORCEINLINE float
+mc_flux_obs_theta_e_f32(const mc_flux_obs_f32_t *obs)
 {
     return obs->theta_e_rad;
 }
 
 /* rho_hat = eta / Phi of (13) (unit length once converged).
  * Interrupt context: yes. */
-static inline void mc_flux_obs_rho_f32(const mc_flux_obs_f32_t *obs,
-                                       float *rho_alpha, float *rho_beta)
+MC_STATIC_FORCEINLINE void mc_flux_obs_rho_f32(const mc_flux_obs_f32_t *obs,
+                                               float *rho_alpha,
+                                               float *rho_beta)
 {
     *rho_alpha = obs->eta_alpha_Wb * obs->inv_psi_per_Wb;
     *rho_beta = obs->eta_beta_Wb * obs->inv_psi_per_Wb;
@@ -130,7 +177,7 @@ static inline void mc_flux_obs_rho_f32(const mc_flux_obs_f32_t *obs,
 /* |rho_hat|^2 = |eta|^2 / Phi^2: 1 on the observer's circle; a value far
  * from 1 (say outside [0.25, 4]) means the observer lost the flux.
  * Interrupt context: yes. */
-static inline float mc_flux_obs_rho_sq_f32(const mc_flux_obs_f32_t *obs)
+MC_STATIC_FORCEINLINE float mc_flux_obs_rho_sq_f32(const mc_flux_obs_f32_t *obs)
 {
     const float ra = obs->eta_alpha_Wb * obs->inv_psi_per_Wb;
     const float rb = obs->eta_beta_Wb * obs->inv_psi_per_Wb;
@@ -140,8 +187,8 @@ static inline float mc_flux_obs_rho_sq_f32(const mc_flux_obs_f32_t *obs)
 /* Torque-producing current seen through the estimate, i^T Jcal rho_hat =
  * -i_alpha rho_beta + i_beta rho_alpha (the input term of (15)), in A.
  * Equals i_q when rho_hat is exact. Interrupt context: yes. */
-static inline float mc_flux_obs_iq_f32(const mc_flux_obs_f32_t *obs,
-                                       float i_alpha_A, float i_beta_A)
+MC_STATIC_FORCEINLINE float mc_flux_obs_iq_f32(const mc_flux_obs_f32_t *obs,
+                                               float i_alpha_A, float i_beta_A)
 {
     float ra, rb;
     mc_flux_obs_rho_f32(obs, &ra, &rb);

@@ -42,6 +42,9 @@
 
 #include <stdint.h>
 
+#include "mc/angle.h"
+#include "mc/compensated_sum.h"
+#include "mc/compiler.h"
 #include "mc/estimate_bounds.h"
 #include "mc/status.h"
 
@@ -90,6 +93,46 @@ mc_status_t mc_pll_obs_reset_f32(mc_pll_obs_f32_t *pll, float theta_e_rad,
  * Interrupt context: yes (bounded, no division). */
 mc_status_t mc_pll_obs_step_f32(mc_pll_obs_f32_t *pll, float theta_obs_e_rad,
                                 float tau_e_ff_Nm);
+
+/*
+ * The step of mc_pll_obs_step_f32 without its checks, inline, for a caller
+ * that checks a whole sample once: the same operations, written into *pll
+ * whatever they give (NaN and Inf propagate into the state; the wraps are
+ * mc_wrap_pi_f32's results). Returns the sum of x * 0 over the five new
+ * states: +-0 if all are finite, NaN otherwise (the aggregate of
+ * mc/finite.h). Interrupt context: yes (no division).
+ */
+MC_STATIC_FORCEINLINE float mc_pll_obs_update_f32(mc_pll_obs_f32_t *pll,
+                                                  float theta_obs_e_rad,
+                                                  float tau_e_ff_Nm)
+{
+    /* predict (explicit Euler of the mechanical model) and correct with
+     * the wrapped angle error; angle and speed are accumulated with
+     * compensation (mc/compensated_sum.h) */
+    const float w = pll->omega_m_rad_s;
+    const float theta_pred_offset = pll->np_Ts * w;
+    const float eps = mc_angle_diff_near_f32(
+        theta_obs_e_rad, pll->theta_e_rad + theta_pred_offset);
+    float theta_comp, w_comp;
+    float theta_new =
+        mc_kahan_add_f32(pll->theta_e_rad, pll->theta_comp_rad,
+                         theta_pred_offset + pll->l1_Ts * eps, &theta_comp);
+    const float w_new = mc_kahan_add_f32(
+        w, pll->omega_comp_rad_s,
+        pll->Ts_over_J * (tau_e_ff_Nm - pll->tau_L_Nm) + pll->l2_Ts * eps,
+        &w_comp);
+    const float tau_new = pll->tau_L_Nm - pll->l3_Ts * eps;
+    /* wraps once per turn (the wrap's own rounding is not carried); the
+     * same float as "if outside (-pi, pi]: mc_wrap_pi_f32" */
+    theta_new = mc_wrap_pi_near_f32(theta_new);
+    pll->theta_e_rad = theta_new;
+    pll->theta_comp_rad = theta_comp;
+    pll->omega_m_rad_s = w_new;
+    pll->omega_comp_rad_s = w_comp;
+    pll->tau_L_Nm = tau_new;
+    return theta_new * 0.0f + theta_comp * 0.0f + w_new * 0.0f + w_comp * 0.0f +
+           tau_new * 0.0f;
+}
 
 /* Filtered electrical angle at t_k, (-pi, pi]. Interrupt context: yes. */
 static inline float mc_pll_obs_theta_e_f32(const mc_pll_obs_f32_t *pll)

@@ -2,11 +2,14 @@
  * Encoder tracker (mc/encoder_tracker.h, firmware/observers/encoder_tracker.c)
  * against an independent double-precision reference: multi-turn position,
  * electrical angle, speed from the tracking PLL; the parameter ranges (CPR
- * in [4, 2^23], the float-exactness limit).
+ * in [4, 2^23], the float-exactness limit); the position's conversion to
+ * float.
  */
 #include "mc_test.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "mc/encoder_tracker.h"
 
@@ -207,6 +210,44 @@ static void test_encoder_tracker_count_jump(void **state)
     assert_true(est.count_jump);
 }
 
+/* The position count's float (mc_encoder_counts_to_f32: the 32-bit
+ * conversion while the count fits) is the 64-bit conversion's, bit for
+ * bit, at the edges of the 32-bit range, of exact float integers, and on
+ * a seeded random spread of magnitudes. */
+static void test_counts_to_float(void **state)
+{
+    (void)state;
+    const int64_t edges[] = { 0,
+                              1,
+                              -1,
+                              (1 << 24) + 1,
+                              -(1 << 24) - 1,
+                              INT32_MAX,
+                              INT32_MIN,
+                              (int64_t)INT32_MAX + 1,
+                              (int64_t)INT32_MIN - 1,
+                              (int64_t)INT32_MAX - 63,
+                              (int64_t)INT32_MAX - 64,
+                              ((int64_t)1 << 40) + 12345,
+                              INT64_MAX,
+                              INT64_MIN };
+    for (size_t k = 0; k < sizeof edges / sizeof edges[0]; k++) {
+        const float a = mc_encoder_counts_to_f32(edges[k]);
+        const float b = (float)edges[k];
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+    uint64_t x = 0x9E3779B97F4A7C15ull;
+    for (int k = 0; k < 100000; k++) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        const int64_t c = (int64_t)x >> (k % 60); /* all magnitudes */
+        const float a = mc_encoder_counts_to_f32(c);
+        const float b = (float)c;
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -214,6 +255,7 @@ int main(void)
         cmocka_unit_test(test_encoder_tracker_ranges),
         cmocka_unit_test(test_encoder_tracker_cpr_max),
         cmocka_unit_test(test_encoder_tracker_count_jump),
+        cmocka_unit_test(test_counts_to_float),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

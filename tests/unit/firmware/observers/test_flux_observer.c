@@ -6,7 +6,9 @@
  *   chi' = A22 chi, and decays at its slowest eigenvalue's rate;
  * - the Euler step's radial contraction is 1 - 2 gamma Phi^2 Ts per sample,
  *   so init's bound Ts < 1/(gamma Phi^2) is exactly the stability limit;
- * - aligned start, non-finite inputs.
+ * - aligned start, non-finite inputs;
+ * - the ISR's unchecked step is the checked step's arithmetic, and its
+ *   finiteness report covers inputs, fluxes and state.
  */
 #include "mc_test.h"
 
@@ -15,6 +17,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "mc/angle.h"
 #include "mc/flux_observer.h"
 #include "paper001_motor.h"
 #include "test_expm2.h"
@@ -392,6 +395,90 @@ static void test_nonfinite_inputs_leave_state_untouched(void **state)
     assert_memory_equal(&before, &obs, sizeof obs);
 }
 
+/* The ISR's step (mc_flux_obs_update_f32, unchecked) is the checked
+ * step's arithmetic: along a motor trajectory (a quarter turn of error at
+ * the start, so the observer converges through every octant of its atan2)
+ * both leave the same state, bit for bit, and the update reports +-0.
+ * Its report is NaN for a non-finite current or voltage (also with R = 0,
+ * where 0 * Inf is the NaN) and for a flux that overflows; the NaN
+ * reaches the state, and a reset clears it. */
+static void test_update_is_the_checked_step(void **state)
+{
+    (void)state;
+    const traj_t tr = { 0.3, 2.0 * MC_TEST_PI * 20.0, 1.0, 4.0 };
+    const mc_flux_obs_params_t p = paper_params();
+    mc_flux_obs_f32_t checked, isr;
+    assert_int_equal(mc_flux_obs_init_f32(&checked, &p), MC_OK);
+    double i_ab[2];
+    traj_current(&tr, 0.0, i_ab);
+    assert_int_equal(
+        mc_flux_obs_reset_f32(&checked, (float)(tr.th0 + 1.5), (float)i_ab[0], (float)i_ab[1]),
+        MC_OK);
+    memcpy(&isr, &checked, sizeof isr);
+    for (long k = 1; k <= 8000; k++) {
+        const double t = (double)k * P001_TS_S;
+        double v[2];
+        traj_mean_voltage(&tr, t - P001_TS_S, t, v);
+        traj_current(&tr, t, i_ab);
+        const float ia = (float)i_ab[0], ib = (float)i_ab[1];
+        assert_int_equal(mc_flux_obs_step_f32(&checked, ia, ib, (float)v[0], (float)v[1]), MC_OK);
+        assert_true(mc_flux_obs_update_f32(&isr, ia, ib, (float)v[0], (float)v[1]) == 0.0f);
+        assert_memory_equal(&checked, &isr, sizeof isr);
+    }
+    const float bad[3] = { NAN, INFINITY, -INFINITY };
+    for (int zero_r = 0; zero_r < 2; zero_r++) {
+        mc_flux_obs_f32_t base = isr;
+        if (zero_r) {
+            base.R_ohm = 0.0f;
+            base.half_R_ohm = 0.0f;
+        }
+        for (int b = 0; b < 3; b++) {
+            for (int pos = 0; pos < 4; pos++) {
+                float in[4] = { 0.5f, -0.2f, 3.0f, 1.0f };
+                in[pos] = bad[b];
+                mc_flux_obs_f32_t x = base;
+                assert_true(isnan(mc_flux_obs_update_f32(&x, in[0], in[1], in[2], in[3])));
+                assert_false(isfinite(x.eta_alpha_Wb) && isfinite(x.eta_beta_Wb));
+                assert_int_equal(mc_flux_obs_reset_f32(&x, 1.0f, 0.5f, -0.2f), MC_OK);
+                assert_true(mc_flux_obs_update_f32(&x, 0.5f, -0.2f, 3.0f, 1.0f) == 0.0f);
+            }
+        }
+    }
+    /* finite inputs, a flux that overflows (as in the test above) */
+    mc_flux_obs_f32_t x = isr;
+    assert_true(mc_flux_obs_update_f32(&x, 0.5f, -0.2f, FLT_MAX, 0.0f) == 0.0f);
+    assert_true(isnan(mc_flux_obs_update_f32(&x, -FLT_MAX, -0.2f, 0.0f, 0.0f)));
+}
+
+/* Bit equality; any NaN equals any NaN. */
+static int same_float(float a, float b)
+{
+    return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
+}
+
+/* The observer's angle (13) comes from mc_atan2_unchecked_f32: for finite
+ * inputs mc_atan2_f32's float (signed zeros, both axes, the diagonals,
+ * subnormal to huge magnitudes, a seeded random cloud). */
+static void test_unchecked_atan2_is_atan2(void **state)
+{
+    (void)state;
+    const float v[] = { 0.0f, -0.0f, FLT_TRUE_MIN, -FLT_TRUE_MIN, FLT_MIN, 1e-20f,   0.17f,  -0.17f,
+                        1.0f, -1.0f, 3.0f,         -7.5f,         1e30f,   -FLT_MAX, FLT_MAX };
+    const size_t n = sizeof v / sizeof v[0];
+    for (size_t i = 0; i < n; i++) {
+        for (size_t j = 0; j < n; j++) {
+            assert_true(same_float(mc_atan2_unchecked_f32(v[i], v[j]), mc_atan2_f32(v[i], v[j])));
+        }
+    }
+    test_rng_t rng = test_rng_seed(11u);
+    for (int k = 0; k < 1000000; k++) {
+        const float y = (float)test_rng_range(&rng, -0.3, 0.3);
+        const float x = (float)test_rng_range(&rng, -0.3, 0.3);
+        assert_true(same_float(mc_atan2_unchecked_f32(y, x), mc_atan2_f32(y, x)));
+        assert_true(same_float(mc_atan2_unchecked_f32(y, y), mc_atan2_f32(y, y)));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -402,6 +489,8 @@ int main(void)
         cmocka_unit_test(test_init_rejects_invalid_params),
         cmocka_unit_test(test_reset_to_aligned_angle),
         cmocka_unit_test(test_nonfinite_inputs_leave_state_untouched),
+        cmocka_unit_test(test_update_is_the_checked_step),
+        cmocka_unit_test(test_unchecked_atan2_is_atan2),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

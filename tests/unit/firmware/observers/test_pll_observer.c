@@ -5,14 +5,20 @@
  *   design, converges to zero in angle and speed (type-3 loop), and the
  *   load estimate absorbs -J * acceleration;
  * - with torque feed-forward the load estimate converges to the true load;
- * - configuration checks, non-finite inputs, plausibility bounds.
+ * - configuration checks, non-finite inputs, plausibility bounds;
+ * - the ISR's unchecked step is the checked step's arithmetic, and its wrap
+ *   (mc_wrap_pi_near_f32, also the other trackers') is mc_wrap_pi_f32's.
  */
 #include "mc_test.h"
 
+#include <float.h>
 #include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "mc/angle.h"
 #include "mc/pll_observer.h"
 #include "paper001_motor.h"
 #include "test_rng.h"
@@ -241,6 +247,132 @@ static void test_nonfinite_and_bounds(void **state)
     assert_int_equal(mc_pll_obs_check_f32(&pll), MC_ERR_RANGE);
 }
 
+/* Bit equality; any NaN equals any NaN. */
+static bool same_float(float a, float b)
+{
+    return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
+}
+
+static float float_of_bits(uint32_t u)
+{
+    float x;
+    memcpy(&x, &u, sizeof x);
+    return x;
+}
+
+static uint32_t bits_of_float(float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+/* Both signs of every step-th float of [lo, hi] (lo, hi >= 0): the number of
+ * inputs where mc_wrap_pi_near_f32 and mc_wrap_pi_f32 differ. */
+static long wrap_mismatches(float lo, float hi, uint32_t step, long *checked)
+{
+    long bad = 0;
+    for (uint32_t u = bits_of_float(lo); u <= bits_of_float(hi); u += step) {
+        for (int sign = 0; sign < 2; sign++) {
+            const float x = float_of_bits(u | (sign ? 0x80000000u : 0u));
+            if (!same_float(mc_wrap_pi_near_f32(x), mc_wrap_pi_f32(x))) {
+                if (bad < 5) {
+                    printf("wrap near %a: %a, wrap %a\n", (double)x, (double)mc_wrap_pi_near_f32(x),
+                           (double)mc_wrap_pi_f32(x));
+                }
+                bad++;
+            }
+            (*checked)++;
+        }
+    }
+    return bad;
+}
+
+/* mc_wrap_pi_near_f32, the wrap of the tracking loops (this PLL, the I&I
+ * increment, the flux front end's position, the encoder tracker), returns
+ * mc_wrap_pi_f32's float for every input: EVERY float with
+ * pi <= |theta| <= 4 pi (the loops' angles stay within 3 pi; there the
+ * reduction by +-2 pi is the same three subtractions), every 1009th float
+ * inside (-pi, pi) (returned as they are by both), every 4099th up to
+ * beyond the accepted range (left to mc_wrap_pi_f32), and the edges. */
+static void test_wrap_near_equals_wrap(void **state)
+{
+    (void)state;
+    long checked = 0;
+    long bad = wrap_mismatches(MC_PI_F, 4.0f * MC_PI_F, 1u, &checked);
+    bad += wrap_mismatches(0.0f, MC_PI_F, 1009u, &checked);
+    bad += wrap_mismatches(4.0f * MC_PI_F, 2.0f * MC_ANGLE_MAX_ABS_RAD, 4099u, &checked);
+    /* the edges: each value, its neighbours, both signs */
+    const float base[] = { 0.0f,
+                           FLT_TRUE_MIN,
+                           FLT_MIN,
+                           MC_PI_F,
+                           MC_TWO_PI_F,
+                           (float)(3.0 * MC_TEST_PI),
+                           MC_ANGLE_MAX_ABS_RAD,
+                           1e30f,
+                           FLT_MAX,
+                           INFINITY,
+                           NAN };
+    for (size_t k = 0; k < sizeof base / sizeof base[0]; k++) {
+        const float x[3] = { base[k], nextafterf(base[k], 0.0f), nextafterf(base[k], INFINITY) };
+        for (int m = 0; m < 6; m++) {
+            const float e = (m < 3) ? x[m] : -x[m - 3];
+            assert_true(same_float(mc_wrap_pi_near_f32(e), mc_wrap_pi_f32(e)));
+        }
+    }
+    printf("wrap near: %ld inputs, %ld differ\n", checked, bad);
+    assert_int_equal(bad, 0);
+    /* and the diff of two wrapped angles, on a grid with both ends */
+    for (int i = 0; i <= 1000; i++) {
+        const float a = (i == 1000) ? MC_PI_F : -MC_PI_F + (float)i * (MC_TWO_PI_F / 1000.0f);
+        for (int j = 0; j <= 1000; j++) {
+            const float b = (j == 1000) ? MC_PI_F : -MC_PI_F + (float)j * (MC_TWO_PI_F / 1000.0f);
+            assert_true(same_float(mc_angle_diff_near_f32(a, b), mc_angle_diff_f32(a, b)));
+        }
+    }
+}
+
+/* The ISR's step (mc_pll_obs_update_f32, unchecked) is the checked step's
+ * arithmetic: on a trajectory over many turns (the angle wraps) with a
+ * noisy observed angle and a torque feed-forward, both leave the same
+ * state, bit for bit, and the update reports +-0. A non-finite input
+ * reaches the state and the report (NaN); a reset clears it. */
+static void test_update_is_the_checked_step(void **state)
+{
+    (void)state;
+    const mc_pll_obs_params_t p = params(40.0);
+    mc_pll_obs_f32_t checked, isr;
+    assert_int_equal(mc_pll_obs_init_f32(&checked, &p), MC_OK);
+    assert_int_equal(mc_pll_obs_reset_f32(&checked, 1.0f, 250.0f, 0.0f), MC_OK);
+    memcpy(&isr, &checked, sizeof isr);
+    test_rng_t rng = test_rng_seed(7u);
+    const double w_m = 260.0; /* rad/s: ~0.25 rad electrical per sample */
+    for (int k = 1; k <= 20000; k++) {
+        const double th =
+            1.0 + NP * w_m * (double)k * P001_TS_S + test_rng_range(&rng, -0.01, 0.01);
+        const float th_obs = mc_wrap_pi_f32((float)fmod(th, 2.0 * MC_TEST_PI));
+        const float tau_ff = (float)test_rng_range(&rng, -2.0, 2.0);
+        assert_int_equal(mc_pll_obs_step_f32(&checked, th_obs, tau_ff), MC_OK);
+        const float fin = mc_pll_obs_update_f32(&isr, th_obs, tau_ff);
+        assert_true(fin == 0.0f);
+        assert_memory_equal(&checked, &isr, sizeof isr);
+    }
+    const float bad[3] = { NAN, INFINITY, -INFINITY };
+    for (int b = 0; b < 3; b++) {
+        for (int pos = 0; pos < 2; pos++) {
+            mc_pll_obs_f32_t x = isr;
+            const float fin =
+                mc_pll_obs_update_f32(&x, pos == 0 ? bad[b] : 0.5f, pos == 1 ? bad[b] : 0.0f);
+            assert_true(isnan(fin));
+            assert_false(isfinite(x.omega_m_rad_s));
+            assert_int_equal(mc_pll_obs_reset_f32(&x, 0.5f, 0.0f, 0.0f), MC_OK);
+            assert_true(isfinite(x.theta_comp_rad) && isfinite(x.omega_comp_rad_s));
+            assert_true(mc_pll_obs_update_f32(&x, 0.5f, 0.0f) == 0.0f);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -249,6 +381,8 @@ int main(void)
         cmocka_unit_test(test_load_estimate_with_torque_feedforward),
         cmocka_unit_test(test_init_rejects_invalid_params),
         cmocka_unit_test(test_nonfinite_and_bounds),
+        cmocka_unit_test(test_wrap_near_equals_wrap),
+        cmocka_unit_test(test_update_is_the_checked_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

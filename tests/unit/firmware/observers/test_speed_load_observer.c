@@ -7,7 +7,8 @@
  * - float32 stays within 0.01 rpm of a double implementation of the
  *   paper's original form (unbounded unwrapped angle) after 1e6 rad;
  * - init accepts Ts exactly where the Euler step is stable;
- * - non-finite inputs and implausible estimates are reported.
+ * - non-finite inputs and implausible estimates are reported;
+ * - the ISR's unchecked step is the checked step's arithmetic.
  */
 #include "mc_test.h"
 
@@ -413,6 +414,45 @@ static void test_implausible_estimates_are_reported(void **state)
     assert_int_equal(mc_speed_load_obs_check_f32(&obs), MC_ERR_RANGE);
 }
 
+/* The ISR's step (mc_speed_load_obs_update_f32, unchecked) is the checked
+ * step's arithmetic: on a noisy angle turning over many wraps with a
+ * varying q current, both leave the same state, bit for bit, and the
+ * update reports +-0. A non-finite input reaches the state and the report
+ * (NaN; an angle beyond the wrap's range too); a reset clears it. */
+static void test_update_is_the_checked_step(void **state)
+{
+    (void)state;
+    const mc_speed_load_obs_params_t p = paper_params();
+    mc_speed_load_obs_f32_t checked, isr;
+    assert_int_equal(mc_speed_load_obs_init_f32(&checked, &p), MC_OK);
+    assert_int_equal(mc_speed_load_obs_reset_f32(&checked, -2.0f, 0.0f, 0.0f), MC_OK);
+    memcpy(&isr, &checked, sizeof isr);
+    test_rng_t rng = test_rng_seed(5u);
+    for (int k = 1; k <= 20000; k++) {
+        const double th = -2.0 + 0.2 * (double)k + test_rng_range(&rng, -0.05, 0.05);
+        const float th_e = (float)p001_wrap_rad(th);
+        const float i_q = (float)test_rng_range(&rng, -5.0, 5.0);
+        assert_int_equal(mc_speed_load_obs_step_f32(&checked, th_e, i_q), MC_OK);
+        assert_true(mc_speed_load_obs_update_f32(&isr, th_e, i_q) == 0.0f);
+        assert_memory_equal(&checked, &isr, sizeof isr);
+    }
+    const float bad[4] = { NAN, INFINITY, -INFINITY, 1e6f };
+    for (int b = 0; b < 4; b++) {
+        for (int pos = 0; pos < 2; pos++) {
+            if (b == 3 && pos == 1) {
+                continue; /* a large current is finite */
+            }
+            mc_speed_load_obs_f32_t x = isr;
+            const float fin = mc_speed_load_obs_update_f32(&x, pos == 0 ? bad[b] : 0.5f,
+                                                           pos == 1 ? bad[b] : 0.0f);
+            assert_true(isnan(fin));
+            assert_false(isfinite(x.omega_m_rad_s));
+            assert_int_equal(mc_speed_load_obs_reset_f32(&x, 0.5f, 0.0f, 0.0f), MC_OK);
+            assert_true(mc_speed_load_obs_update_f32(&x, 0.5f, 0.0f) == 0.0f);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -424,6 +464,7 @@ int main(void)
         cmocka_unit_test(test_init_rejects_invalid_params),
         cmocka_unit_test(test_nonfinite_inputs_leave_state_untouched),
         cmocka_unit_test(test_implausible_estimates_are_reported),
+        cmocka_unit_test(test_update_is_the_checked_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,6 @@
 /*
- * Compensated (Kahan) accumulation for float32 estimator states, private to
- * mc_observers.
+ * Compensated (Kahan) accumulation for float32 estimator states (the
+ * observers' inline steps, mc/pll_observer.h, mc/speed_load_observer.h).
  *
  * An estimator state such as a speed of 333 rad/s (ulp 3e-5 rad/s) gets
  * per-sample increments far below its ulp; plain rounding then acts as a
@@ -15,10 +15,12 @@
 #ifndef MC_COMPENSATED_SUM_H
 #define MC_COMPENSATED_SUM_H
 
+#include "mc/compiler.h"
+
 /* Returns sum + increment (with the carried error comp applied) and writes
  * the new carried error to *comp_out. */
-static inline float mc_kahan_add_f32(float sum, float comp, float increment,
-                                     float *comp_out)
+MC_STATIC_FORCEINLINE float mc_kahan_add_f32(float sum, float comp,
+                                             float increment, float *comp_out)
 {
     const float y = increment - comp;
     const float s = sum + y;
