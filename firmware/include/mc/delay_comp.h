@@ -123,7 +123,7 @@ mc_status_t mc_applied_voltage_reset_f32(mc_applied_voltage_f32_t *av,
 
 /* Mean voltage applied over [t_{k-1}, t_k]; call in ISR k BEFORE pushing
  * this ISR's command. Interrupt context: yes. */
-static inline void
+MC_STATIC_FORCEINLINE void
 mc_applied_voltage_last_f32(const mc_applied_voltage_f32_t *av,
                             float *v_alpha_V, float *v_beta_V)
 {
