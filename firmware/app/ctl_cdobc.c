@@ -147,11 +147,14 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
     const bool counts = c->count_periods != 0u && !est->sensorless &&
                         cpr >= 4u && cpr <= MC_ENCODER_CPR_MAX;
     ctl->cpr = counts ? cpr : 0u;
+    ctl->half_cpr = (int32_t)(ctl->cpr / 2u);
     ctl->n_count = counts ? c->count_periods : 0u;
     ctl->count_rad_s =
         counts ? 6.2831853f / ((float)cpr * (float)c->count_periods * tm->Ts_s)
                : 0.0f;
+    ctl->count_next = 0u;
     ctl->count_valid = 0u;
+    ctl->count_sum = 0;
     mc_ctl_cdobc_start(ctl);
     return MC_OK;
 }

@@ -92,7 +92,7 @@ mc_status_t mc_ctl_eeo_init(mc_ctl_eeo_t *ctl, const mc_config_t *cfg,
         return st;
     }
     ctl->cpr = cpr;
-    ctl->frac_bits = f;
+    ctl->units_per_count = 1u << f;
     ctl->units_per_rad = units_per_turn / EEO_TWO_PI;
     ctl->counts_per_rad = (float)cpr / EEO_TWO_PI;
     ctl->omega_max_rad_s = cfg->limits.omega_max_rad_s;

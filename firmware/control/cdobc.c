@@ -40,8 +40,10 @@ mc_status_t mc_cdobc_reset_f32(mc_cdobc_f32_t *ctl, float omega_m_rad_s)
         return MC_ERR_NONFINITE;
     }
     for (uint32_t i = 0; i < MC_CDOBC_N_MAX; ++i) {
-        ctl->w[i] = 0.0f;
+        ctl->w_buf[0][i] = 0.0f;
+        ctl->w_buf[1][i] = 0.0f;
     }
+    ctl->w_sel = 0u;
     ctl->nu_prev = -omega_m_rad_s;
     ctl->v_prev = 0.0f;
     ctl->v_cur = 0.0f;
@@ -68,71 +70,69 @@ bool mc_cdobc_needs_redesign_f32(const mc_cdobc_f32_t *ctl,
     return !(fabsf(w - ctl->coef.omega_design_rad_s) <= rel_tol * w);
 }
 
-static float clampf(float x, float lim, bool *hit)
+/* Row i up to its dPhi w terms: w_i + Gn_i nu_prev + Gu_i v_prev
+ * + Ld_i dnu. */
+MC_STATIC_FORCEINLINE float row_start(const mc_cdobc_coef_f32_t *k,
+                                      const float *w, uint32_t i, float nu_prev,
+                                      float v_prev, float dnu)
 {
-    *hit = (x > lim) || (x < -lim);
-    return (x > lim) ? lim : ((x < -lim) ? -lim : x);
+    return w[i] + k->Gn[i] * nu_prev + k->Gu[i] * v_prev + k->Ld[i] * dnu;
+}
+
+float mc_cdobc_observe_f32(const mc_cdobc_coef_f32_t *k, const float *w,
+                           float *w_next, float nu_prev, float v_prev,
+                           float dnu, float v)
+{
+    const uint32_t n = k->n;
+    uint32_t i = 0u;
+    /* two rows a pass: each w_j loaded once for both */
+    for (; i + 1u < n; i += 2u) {
+        const float *row0 = &k->dPhi[i * n];
+        const float *row1 = row0 + n;
+        float s0 = row_start(k, w, i, nu_prev, v_prev, dnu);
+        float s1 = row_start(k, w, i + 1u, nu_prev, v_prev, dnu);
+        for (uint32_t j = 0; j < n; ++j) {
+            const float w_j = w[j];
+            s0 += row0[j] * w_j;
+            s1 += row1[j] * w_j;
+        }
+        w_next[i] = s0;
+        w_next[i + 1u] = s1;
+        v += k->g[i] * s0;
+        v += k->g[i + 1u] * s1;
+    }
+    if (i < n) { /* the last row of an odd n */
+        const float *row = &k->dPhi[i * n];
+        float s = row_start(k, w, i, nu_prev, v_prev, dnu);
+        for (uint32_t j = 0; j < n; ++j) {
+            s += row[j] * w[j];
+        }
+        w_next[i] = s;
+        v += k->g[i] * s;
+    }
+    return v;
 }
 
 mc_status_t mc_cdobc_step_f32(mc_cdobc_f32_t *ctl, float omega_m_rad_s,
                               float omega_ref_rad_s, float i_d_A,
                               mc_cdobc_out_t *out)
 {
-    const mc_cdobc_coef_f32_t *k = &ctl->coef;
-    const uint32_t n = k->n;
-    /* finiteness of the inputs: x * 0 is +-0 for finite x, NaN else */
-    if (!((omega_m_rad_s * 0.0f + omega_ref_rad_s * 0.0f + i_d_A * 0.0f) ==
-          0.0f)) {
+    /* the core writes the spare half of w also when it fails: on a copy,
+     * so that nothing of *ctl changes then */
+    mc_cdobc_f32_t next = *ctl;
+    mc_cdobc_out_t o;
+    if (!mc_cdobc_step_core_f32(&next, omega_m_rad_s, omega_ref_rad_s, i_d_A,
+                                &o)) {
         return MC_ERR_NONFINITE;
     }
-    /* observer (8), discrete: w += dPhi w + Gn nu_prev + Gu v_prev
-     * + Ld (nu - nu_prev) */
-    const float nu = -omega_m_rad_s;
-    const float dnu = nu - ctl->nu_prev;
-    float w[MC_CDOBC_N_MAX];
-    float acc = 0.0f; /* finiteness accumulator */
-    for (uint32_t i = 0; i < n; ++i) {
-        float s = ctl->w[i] + k->Gn[i] * ctl->nu_prev + k->Gu[i] * ctl->v_prev +
-                  k->Ld[i] * dnu;
-        const float *row = &k->dPhi[i * n];
-        for (uint32_t j = 0; j < n; ++j) {
-            s += row[j] * ctl->w[j];
-        }
-        w[i] = s;
-        acc += s * 0.0f;
-    }
-    /* (6) + (9) on the prediction, folded (mc/cdobc.h) */
-    float v = k->k1 * omega_ref_rad_s + k->g_nu * nu + k->gu * ctl->v_cur;
+    /* model outputs of the new state: D of (5) */
+    const float *w = mc_cdobc_state_f32(&next);
     float d_hat = 0.0f;
-    for (uint32_t i = 0; i < n; ++i) {
-        v += k->g[i] * w[i];
-        d_hat += k->h[i] * w[i]; /* model outputs: D of (5) */
+    for (uint32_t i = 0; i < next.coef.n; ++i) {
+        d_hat += next.coef.h[i] * w[i];
     }
-    /* (6) d-q coupling, (10) saturation */
-    const float u_c = ctl->np_Ld_H * i_d_A * omega_m_rad_s;
-    bool q_lim;
-    const float v_q = clampf(v + u_c, ctl->v_max_V, &q_lim);
-    /* d axis: PI on i_d* - i_d = -i_d (its own clamp) */
-    mc_pi_f32_t pi = ctl->pi_d;
-    const float v_d = mc_pi_step_f32(&pi, -i_d_A);
-    const bool d_lim = !(v_d < ctl->v_max_V) || !(v_d > -ctl->v_max_V);
-    acc += v * 0.0f + v_q * 0.0f + v_d * 0.0f;
-    if (!(acc == 0.0f)) {
-        return MC_ERR_NONFINITE;
-    }
-    /* commit; the observer sees the voltage actually applied */
-    for (uint32_t i = 0; i < n; ++i) {
-        ctl->w[i] = w[i];
-    }
-    ctl->pi_d = pi;
-    ctl->v_prev = ctl->v_cur;
-    ctl->v_cur = v_q - u_c;
-    ctl->nu_prev = nu;
-    out->v_q_V = v_q;
-    out->v_d_V = v_d;
-    out->v_q_unsat_V = v + u_c;
-    out->d_hat = d_hat;
-    out->q_limited = q_lim;
-    out->d_limited = d_lim;
+    o.d_hat = d_hat;
+    *ctl = next;
+    *out = o;
     return MC_OK;
 }

@@ -10,18 +10,13 @@
 #include <float.h>
 #include <math.h>
 
-static bool radius_valid(float r_max)
-{
-    return (r_max >= FLT_MIN) && (r_max <= FLT_MAX); /* false for NaN */
-}
-
 /* The input contract both limits share (see the header). Returns true when
  * the limit is to be applied to the finite vector (*x_d, *x_q); otherwise
  * *changed is the limit's result: true after an invalid r_max set both
  * components to NaN, false for a non-finite vector (left unchanged). */
 static bool limit_applies(float *x_d, float *x_q, float r_max, bool *changed)
 {
-    if (!radius_valid(r_max)) {
+    if (!mc_circle_radius_valid_f32(r_max)) {
         *x_d = NAN;
         *x_q = NAN;
         *changed = true;
@@ -31,21 +26,20 @@ static bool limit_applies(float *x_d, float *x_q, float r_max, bool *changed)
     return isfinite(*x_d) && isfinite(*x_q);
 }
 
-bool mc_circle_limit_f32(float *x_d, float *x_q, float r_max)
+bool mc_circle_limit_outside_f32(float *x_d, float *x_q, float r_max,
+                                 float mag2_n)
 {
     bool changed;
     if (!limit_applies(x_d, x_q, r_max, &changed)) {
         return changed;
     }
-    const float d = *x_d;
-    const float q = *x_q;
-    const float inv_r = 1.0f / r_max; /* guarded: r_max >= FLT_MIN */
-    const float d_n = d * inv_r;
-    const float q_n = q * inv_r;
-    const float mag2_n = d_n * d_n + q_n * q_n;
+    /* mag2_n = |x|^2 / r_max^2 as mc_circle_limit_f32 computed it
+     * (normalised by r_max): > 1 there, or beyond float range */
     if (!(mag2_n > 1.0f)) {
         return false;
     }
+    const float d = *x_d;
+    const float q = *x_q;
     float scale;
     if (isfinite(mag2_n)) {
         scale = 1.0f / sqrtf(mag2_n); /* guarded: mag2_n > 1 */

@@ -127,16 +127,21 @@ typedef struct {
     mc_cdobc_pid_f32_t pid; /* baseline */
     mc_cdobc_params_t p;    /* for the redesign */
     bool use_pid;
-    bool restart;         /* reset at the next step */
-    float redesign_tol;   /* 0: fixed design */
-    float u_c_prev_V;     /* (6) coupling term of the last step */
-    float v_dc_prev_V;    /* bus of the last step */
-    uint32_t cpr;         /* counts per turn of the count speed, 0: none */
-    uint32_t n_count;     /* periods of the count speed */
-    float count_rad_s;    /* 2 pi / (cpr n_count Ts): one count */
-    uint32_t count_valid; /* counts in the history since the start */
-    uint32_t count_hist[MC_CTL_CDOBC_COUNT_MAX]; /* last counts, newest
-                                                    at [0] */
+    bool restart;        /* reset at the next step */
+    float redesign_tol;  /* 0: fixed design */
+    float u_c_prev_V;    /* (6) coupling term of the last step */
+    float v_dc_prev_V;   /* bus of the last step */
+    uint32_t cpr;        /* counts per turn of the count speed, 0: none */
+    int32_t half_cpr;    /* cpr / 2 */
+    uint32_t n_count;    /* periods of the count speed */
+    float count_rad_s;   /* 2 pi / (cpr n_count Ts): one count */
+    uint32_t count_last; /* count of the last step */
+    /* the last n_count steps of the count, each wrapped to [-cpr/2,
+     * cpr/2), in a ring (next: the oldest), and their sum */
+    int32_t count_steps[MC_CTL_CDOBC_COUNT_MAX];
+    uint32_t count_next;
+    uint32_t count_valid; /* steps in the ring since the start */
+    int32_t count_sum;
 } mc_ctl_cdobc_t;
 
 MC_CONTROLLER_INTERFACE(cdobc);
@@ -161,38 +166,40 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
     const float w = t->omega_m_rad_s;
     const float w_ref = o->omega_m_ref_rad_s;
     /* the observer's speed: the count difference over the last n_count
-     * periods (the estimator's until there are n_count) */
+     * periods (the estimator's until there are n_count), the sum of the
+     * periods' wrapped steps kept as a running sum (integers: exact, the
+     * same as summing them anew; |sum| < 2^26) */
     float w_obs = w;
     if (ctl->cpr != 0u) {
         const uint32_t n = ctl->n_count;
+        const uint32_t c = t->encoder_count;
         if (ctl->restart) {
-            ctl->count_valid = 0u;
-        }
-        const uint32_t m = ctl->count_valid;
-        if (m == n) {
-            /* each period's step wrapped to [-cpr/2, cpr/2): |dc| < 2^26 */
-            const int32_t cpr = (int32_t)ctl->cpr;
-            int32_t dc = 0;
-            uint32_t c = t->encoder_count;
-            for (uint32_t i = 0; i < m; ++i) {
-                int32_t s = (int32_t)c - (int32_t)ctl->count_hist[i];
-                if (s >= cpr / 2) {
-                    s -= cpr;
-                } else if (s < -(cpr / 2)) {
-                    s += cpr;
-                }
-                dc += s;
-                c = ctl->count_hist[i];
+            for (uint32_t i = 0u; i < n; ++i) {
+                ctl->count_steps[i] = 0;
             }
-            w_obs = (float)dc * ctl->count_rad_s;
+            ctl->count_next = 0u;
+            ctl->count_valid = 0u;
+            ctl->count_sum = 0;
+        } else {
+            const int32_t half = ctl->half_cpr;
+            int32_t s = (int32_t)c - (int32_t)ctl->count_last;
+            if (s >= half) {
+                s -= (int32_t)ctl->cpr;
+            } else if (s < -half) {
+                s += (int32_t)ctl->cpr;
+            }
+            const uint32_t i = ctl->count_next;
+            ctl->count_sum += s - ctl->count_steps[i];
+            ctl->count_steps[i] = s;
+            ctl->count_next = (i + 1u == n) ? 0u : i + 1u;
+            if (ctl->count_valid < n) {
+                ctl->count_valid++;
+            }
+            if (ctl->count_valid == n) {
+                w_obs = (float)ctl->count_sum * ctl->count_rad_s;
+            }
         }
-        for (uint32_t i = n - 1u; i > 0u; --i) {
-            ctl->count_hist[i] = ctl->count_hist[i - 1u];
-        }
-        ctl->count_hist[0] = t->encoder_count;
-        if (m < n) {
-            ctl->count_valid = m + 1u;
-        }
+        ctl->count_last = c;
     }
     if (ctl->restart) {
         if (mc_cdobc_reset_f32(&ctl->law, w) != MC_OK ||
@@ -229,8 +236,9 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
         out.d_limited = false;
         ctl->u_c_prev_V = 0.0f;
     } else {
-        if (mc_cdobc_step_f32(&ctl->law, w_obs, w_ref, t->i_d_A, &out) !=
-            MC_OK) {
+        /* the step inline (d_hat not needed); nothing changes on a
+         * non-finite input or result */
+        if (!mc_cdobc_step_core_f32(&ctl->law, w_obs, w_ref, t->i_d_A, &out)) {
             return MC_FAULT_NONFINITE;
         }
         ctl->u_c_prev_V = out.v_q_V - ctl->law.v_cur;

@@ -91,13 +91,13 @@ typedef struct {
     mc_eeo_f32_t law;
     mc_eeo_counts_t pos; /* unwrapped count */
     uint32_t cpr;
-    uint32_t frac_bits;    /* f: position units of 2^-f count */
-    float units_per_rad;   /* cpr 2^f / (2 pi) */
-    float counts_per_rad;  /* cpr / (2 pi) */
-    int64_t ref_units;     /* theta* in units */
-    float ref_rad;         /* the command ref_units was made from */
-    float ref_frac_units;  /* speed mode: fraction not yet in ref */
-    float omega_max_rad_s; /* speed mode limit */
+    uint32_t units_per_count; /* 2^f: position units of 2^-f count */
+    float units_per_rad;      /* cpr 2^f / (2 pi) */
+    float counts_per_rad;     /* cpr / (2 pi) */
+    int64_t ref_units;        /* theta* in units */
+    float ref_rad;            /* the command ref_units was made from */
+    float ref_frac_units;     /* speed mode: fraction not yet in ref */
+    float omega_max_rad_s;    /* speed mode limit */
     float Ts_s;
     bool primed;       /* pos follows the count */
     bool restart;      /* reset the regulator at the next step */
@@ -113,8 +113,10 @@ MC_CONTROLLER_INTERFACE(eeo);
 /* The measured position in units of 2^-f count (centre of the count). */
 MC_STATIC_FORCEINLINE int64_t mc_ctl_eeo_pos_units(const mc_ctl_eeo_t *ctl)
 {
-    return (int64_t)((uint64_t)ctl->pos.pos_counts << ctl->frac_bits) +
-           (int64_t)(1u << (ctl->frac_bits - 1u));
+    /* count 2^f (modulo 2^64 like the shift; a multiply by 32 bits is
+     * cheaper than a 64-bit shift by a variable) plus half a count */
+    return (int64_t)((uint64_t)ctl->pos.pos_counts * ctl->units_per_count) +
+           (int64_t)(ctl->units_per_count >> 1u);
 }
 
 /* Follow the count (every mode); the first call after start primes the
@@ -194,17 +196,23 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_eeo_voltages(mc_ctl_eeo_t *ctl,
         const float lo = ctl->law.g3_min_per_kgm2;
         const float hi = ctl->law.g3_max_per_kgm2;
         g3 = (g3 < lo) ? lo : ((g3 > hi) ? hi : g3);
-        if (mc_eeo_set_g3_f32(&ctl->law, g3) != MC_OK) {
+        /* g3 in range: the unchecked core (its division's guard fails
+         * for a NaN) */
+        if (!mc_eeo_set_g3_core_f32(&ctl->law, g3)) {
             return MC_FAULT_NONFINITE;
         }
-        ctl->g3_phase = mc_wrap_pi_f32(ctl->g3_phase + ctl->g3_dphase);
+        /* inside (-pi, pi) mc_wrap_pi_f32 returns its argument (both
+         * steps are within +-pi: the call only once per turn) */
+        const float ph = ctl->g3_phase + ctl->g3_dphase;
+        ctl->g3_phase = (fabsf(ph) < MC_PI_F) ? ph : mc_wrap_pi_f32(ph);
     }
     /* the drive's limit (SVPWM circle, v_d = 0) in the paper's units */
     const float v_dc = (t->v_dc_V > 0.0f) ? t->v_dc_V : 0.0f;
     ctl->law.v_q_max_V =
         v_dc * (1.0f / MC_CTL_EEO_PAPER_TO_DRIVE) * 0.57735027f;
+    /* the step inline; nothing changes on a non-finite result */
     mc_eeo_out_t o;
-    if (mc_eeo_step_f32(&ctl->law, err, &o) != MC_OK) {
+    if (!mc_eeo_step_core_f32(&ctl->law, err, &o)) {
         return MC_FAULT_NONFINITE;
     }
     t->i_d_ref_A = 0.0f;

@@ -88,9 +88,11 @@
 #ifndef MC_EEO_H
 #define MC_EEO_H
 
+#include <float.h>
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 #define MC_EEO_NW_MAX  6u /* largest internal-model order */
@@ -177,6 +179,9 @@ typedef struct {
     float g2;          /* n_p */
     float g3_per_kgm2; /* g3 in use */
     float g3_min_per_kgm2, g3_max_per_kgm2;
+    float h_g2, h_g3;        /* h g2, h g3 (the chain's prediction) */
+    float h_l[2];            /* h l1, h l2 (backward-Euler gains) */
+    float w34[2];            /* w3, w4 (g3-free: computed once) */
     float y_per_count;       /* n_p rad_per_count */
     float l[MC_EEO_N_CHAIN]; /* continuous gains of (13) */
     float m[MC_EEO_N_CHAIN]; /* backward-Euler correction gains */
@@ -187,13 +192,17 @@ typedef struct {
     float E[MC_EEO_NW_MAX];
     float gamma[MC_EEO_NW_MAX];
     /* state */
-    float x[MC_EEO_N_CHAIN];    /* xi1_hat (rad), xi2_hat (rad/s), xi3_hat
-                                   (N m), sigma_hat (N m/s) */
-    float r1;                   /* xi1_hat - y of the last step (rad) */
-    int32_t last_err_counts;    /* err_counts of the last step */
-    float eta[MC_EEO_NW_MAX];   /* internal model (V units of v_q) */
-    float eta_c[MC_EEO_NW_MAX]; /* its compensated-sum residual */
-    float u_hist[2];            /* b_bar u_bar_app of the last two steps */
+    float x[MC_EEO_N_CHAIN]; /* xi1_hat (rad), xi2_hat (rad/s), xi3_hat
+                                (N m), sigma_hat (N m/s) */
+    float r1;                /* xi1_hat - y of the last step (rad) */
+    int32_t last_err_counts; /* err_counts of the last step */
+    /* internal model (V units of v_q) and its compensated-sum residual,
+     * double-buffered: the step reads half im_sel and writes the other,
+     * which becomes the state only when the step succeeds (no copy) */
+    float eta[2][MC_EEO_NW_MAX];
+    float eta_c[2][MC_EEO_NW_MAX];
+    uint32_t im_sel;
+    float u_hist[2]; /* b_bar u_bar_app of the last two steps */
 } mc_eeo_f32_t;
 
 typedef struct {
@@ -235,6 +244,162 @@ mc_status_t mc_eeo_set_g3_f32(mc_eeo_f32_t *ctl, float g3_per_kgm2);
 mc_status_t mc_eeo_step_f32(mc_eeo_f32_t *ctl, int32_t err_counts,
                             mc_eeo_out_t *out);
 
+/* The computation of mc_eeo_set_g3_f32 for a g3 in [g3_min, g3_max] (the
+ * caller checks or clamps it), inline for the ISR: true with m, m1c and
+ * g3 set, or false with nothing changed when 1 + w1 is not in
+ * [1, FLT_MAX] (the division's guard; a NaN g3 lands here).
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE bool mc_eeo_set_g3_core_f32(mc_eeo_f32_t *ctl,
+                                                  float g3_per_kgm2)
+{
+    /* backward-Euler gains (above): w = h M^-1 l, m = w / (1 + w1);
+     * w4, w3, h l1, h l2 and h g2 do not depend on g3 */
+    const float h_g3 = ctl->h_s * g3_per_kgm2;
+    const float w4 = ctl->w34[1];
+    const float w3 = ctl->w34[0];
+    const float w2 = ctl->h_l[1] + h_g3 * w3;
+    const float w1 = ctl->h_l[0] + ctl->h_g2 * w2;
+    const float den = 1.0f + w1; /* > 1 for the positive terms above */
+    if (!(den >= 1.0f && den <= FLT_MAX)) {
+        return false;
+    }
+    const float inv = 1.0f / den;
+    ctl->m[0] = w1 * inv;
+    ctl->m[1] = w2 * inv;
+    ctl->m[2] = w3 * inv;
+    ctl->m[3] = w4 * inv;
+    ctl->m1c = inv;
+    ctl->g3_per_kgm2 = g3_per_kgm2;
+    ctl->h_g3 = h_g3;
+    return true;
+}
+
+/* Gamma eta of the step (n_w = ctl->n_w; a constant lets the compiler
+ * unroll). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_eeo_gamma_eta_f32(const mc_eeo_f32_t *ctl,
+                                                 uint32_t n_w)
+{
+    const float *eta = ctl->eta[ctl->im_sel];
+    float gamma_eta = 0.0f;
+#pragma GCC unroll 6
+    for (uint32_t i = 0; i < n_w; ++i) {
+        gamma_eta += ctl->gamma[i] * eta[i];
+    }
+    return gamma_eta;
+}
+
+/* The internal model's update of the step: eta_{k+1} = eta_k + D eta_k
+ * + E u_app (exact ZOH) with its compensated sum, from half im_sel into
+ * the other; returns the new values times 0 summed (mc/finite.h).
+ * n_w = ctl->n_w (a constant lets the compiler unroll). Interrupt
+ * context: yes. */
+MC_STATIC_FORCEINLINE float mc_eeo_im_step_f32(mc_eeo_f32_t *ctl, float u_app,
+                                               uint32_t n_w)
+{
+    const float *eta = ctl->eta[ctl->im_sel];
+    const float *eta_c = ctl->eta_c[ctl->im_sel];
+    float *eta_next = ctl->eta[ctl->im_sel ^ 1u];
+    float *eta_c_next = ctl->eta_c[ctl->im_sel ^ 1u];
+    float acc = 0.0f;
+#pragma GCC unroll 6
+    for (uint32_t i = 0; i < n_w; ++i) {
+        float d = ctl->E[i] * u_app;
+#pragma GCC unroll 6
+        for (uint32_t j = 0; j < n_w; ++j) {
+            d += ctl->D[i * n_w + j] * eta[j];
+        }
+        /* compensated sum: the increments are O(Ts) of eta, so plain
+         * float32 accumulation would drift (the bias mode integrates) */
+        const float y_c = d - eta_c[i];
+        const float t_c = eta[i] + y_c;
+        const float c_next = (t_c - eta[i]) - y_c;
+        eta_c_next[i] = c_next;
+        eta_next[i] = t_c;
+        acc += t_c * 0.0f + c_next * 0.0f;
+    }
+    return acc;
+}
+
+/* The step of mc_eeo_step_f32, inline for the ISR: true with the new
+ * state and *out, or false with state and *out untouched when an
+ * intermediate is not finite. One finiteness test: u_hat, v_q, b_bar
+ * u_bar_app, r1 and the new eta, eta_c times 0 summed (mc/finite.h);
+ * u_hat covers the new chain estimate x (each reaches it through a
+ * finite gain: inf * 0 and inf - inf are NaN). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE bool
+mc_eeo_step_core_f32(mc_eeo_f32_t *ctl, int32_t err_counts, mc_eeo_out_t *out)
+{
+    const float h = ctl->h_s;
+    /* y_k = g2 (theta - theta*), exact integer error times the scale */
+    const float y = (float)err_counts * ctl->y_per_count;
+    /* (13), backward Euler: predict the chain with the input of the last
+     * interval ... */
+    const float u_p = ctl->u_hist[ctl->delay];
+    const float p4 = ctl->x[3];
+    const float p3 = ctl->x[2] + h * (u_p + p4);
+    const float p2 = ctl->x[1] + ctl->h_g3 * p3;
+    /* p1 = xi1_{k-1} + dp1; the innovation y_k - p1 is formed from the
+     * exact integer increment of y and the small stored residual
+     * r = xi1_hat - y (no difference of two large float32 numbers, whose
+     * rounding the gain m4 ~ 3e5 would amplify) */
+    const float dp1 = ctl->h_g2 * p2;
+    const int64_t dc = (int64_t)err_counts - (int64_t)ctl->last_err_counts;
+    /* the increment as a float: from int32 (one instruction) when it fits,
+     * which rounds like the int64 conversion */
+    const float dc_f = (dc >= (int64_t)INT32_MIN && dc <= (int64_t)INT32_MAX)
+                           ? (float)(int32_t)dc
+                           : (float)dc;
+    const float dy = dc_f * ctl->y_per_count;
+    /* ... then correct every state by its gain times one innovation */
+    const float e = dy - ctl->r1 - dp1;
+    const float r1 = -ctl->m1c * e; /* xi1_k - y_k = (m1 - 1) e */
+    const float x0 = y + r1;
+    const float x1 = p2 + ctl->m[1] * e;
+    const float x2 = p3 + ctl->m[2] * e;
+    const float x3 = p4 + ctl->m[3] * e;
+    /* (12): u_bar = sat_N((-sigma + K xi) / b_bar) */
+    const float u_hat = ctl->inv_b_bar * (-x3 + ctl->K[0] * x0 +
+                                          ctl->K[1] * x1 + ctl->K[2] * x2);
+    const float n_v = ctl->N_V;
+    const bool sat_n = (u_hat > n_v) || (u_hat < -n_v);
+    const float u_bar = (u_hat > n_v) ? n_v : ((u_hat < -n_v) ? -n_v : u_hat);
+    /* (7): v_q = Gamma eta + u_bar, clamped to the drive's limit */
+    const uint32_t n_w = ctl->n_w;
+    /* the drive's order 3 (paper 000, mc/ctl_eeo.h) as straight-line
+     * code, the same operations */
+    const float gamma_eta = (n_w == 3u) ? mc_eeo_gamma_eta_f32(ctl, 3u)
+                                        : mc_eeo_gamma_eta_f32(ctl, n_w);
+    const float v_sum = gamma_eta + u_bar;
+    const float v_max = ctl->v_q_max_V;
+    const bool lim = (v_sum > v_max) || (v_sum < -v_max);
+    const float v_q =
+        (v_sum > v_max) ? v_max : ((v_sum < -v_max) ? -v_max : v_sum);
+    const float u_app = v_q - gamma_eta; /* what the plant really got */
+    /* eta_{k+1} = eta_k + D eta_k + E u_bar_app (exact ZOH), into the
+     * spare half */
+    const float acc_im = (n_w == 3u) ? mc_eeo_im_step_f32(ctl, u_app, 3u)
+                                     : mc_eeo_im_step_f32(ctl, u_app, n_w);
+    const float bu = ctl->b_bar * u_app;
+    if (!((acc_im + u_hat * 0.0f + v_q * 0.0f + bu * 0.0f + r1 * 0.0f) ==
+          0.0f)) {
+        return false;
+    }
+    ctl->x[0] = x0;
+    ctl->x[1] = x1;
+    ctl->x[2] = x2;
+    ctl->x[3] = x3;
+    ctl->r1 = r1;
+    ctl->last_err_counts = err_counts;
+    ctl->im_sel ^= 1u;
+    ctl->u_hist[1] = ctl->u_hist[0];
+    ctl->u_hist[0] = bu;
+    out->v_q_V = v_q;
+    out->u_bar_V = u_bar;
+    out->sat_N = sat_n;
+    out->v_limited = lim;
+    return true;
+}
+
 /* ---- multi-turn position in integer counts ---------------------------- */
 
 typedef struct {
@@ -250,11 +415,44 @@ mc_status_t mc_eeo_counts_init(mc_eeo_counts_t *c, uint32_t cpr, uint32_t raw);
 /* Unwrap: adds the shortest signed step from the last reading (|step|
  * < cpr/2 per call required). MC_ERR_RANGE for raw >= cpr.
  * Interrupt context: yes. */
-mc_status_t mc_eeo_counts_update(mc_eeo_counts_t *c, uint32_t raw);
+MC_STATIC_FORCEINLINE mc_status_t mc_eeo_counts_update(mc_eeo_counts_t *c,
+                                                       uint32_t raw)
+{
+    if (raw >= c->cpr) {
+        return MC_ERR_RANGE;
+    }
+    int64_t d = (int64_t)raw - (int64_t)c->last_raw;
+    const int64_t cpr = (int64_t)c->cpr;
+    /* shortest signed step: d in [-cpr/2, cpr/2) */
+    if (d >= cpr / 2) {
+        d -= cpr;
+    } else if (d < -(cpr / 2)) {
+        d += cpr;
+    }
+    c->pos_counts += d;
+    c->last_raw = raw;
+    return MC_OK;
+}
 
 /* err = pos - ref in int32; MC_ERR_RANGE (err saturated) if the
  * difference does not fit. Interrupt context: yes. */
-mc_status_t mc_eeo_count_error(int64_t pos_counts, int64_t ref_counts,
-                               int32_t *err_counts);
+MC_STATIC_FORCEINLINE mc_status_t mc_eeo_count_error(int64_t pos_counts,
+                                                     int64_t ref_counts,
+                                                     int32_t *err_counts)
+{
+    /* pos - ref without int64 overflow: compare before subtracting */
+    if ((ref_counts < 0 && pos_counts > INT64_MAX + ref_counts) ||
+        (ref_counts > 0 && pos_counts < INT64_MIN + ref_counts)) {
+        *err_counts = (pos_counts > ref_counts) ? INT32_MAX : INT32_MIN;
+        return MC_ERR_RANGE;
+    }
+    const int64_t d = pos_counts - ref_counts;
+    if (d > (int64_t)INT32_MAX || d < (int64_t)INT32_MIN) {
+        *err_counts = (d > 0) ? INT32_MAX : INT32_MIN;
+        return MC_ERR_RANGE;
+    }
+    *err_counts = (int32_t)d;
+    return MC_OK;
+}
 
 #endif /* MC_EEO_H */

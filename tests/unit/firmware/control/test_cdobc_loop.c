@@ -25,6 +25,7 @@
 
 #include "cdobc_test_plant.h"
 #include "mc/cdobc.h"
+#include "test_rng.h"
 
 #define RPM    MC_TEST_RAD_S_PER_RPM
 #define RPM500 (500.0 * RPM)
@@ -527,7 +528,7 @@ static void test_nonfinite_and_validation(void **state)
     assert_false(mc_cdobc_needs_redesign_f32(&c, (float)-RPM500, 1e-3f));
     assert_true(mc_cdobc_needs_redesign_f32(&c, 0.0f, 1e-3f));
     /* a non-finite state reaching the step is reported, not used */
-    c.w[0] = INFINITY;
+    mc_cdobc_state_f32(&c)[0] = INFINITY;
     assert_int_equal(mc_cdobc_step_f32(&c, 1.0f, 1.0f, 0.0f, &o), MC_ERR_NONFINITE);
     /* init errors leave the instance untouched */
     keep = c;
@@ -568,6 +569,94 @@ static void test_nonfinite_and_validation(void **state)
     assert_int_equal(mc_cdobc_pid_reset_f32(&pid, INFINITY), MC_ERR_NONFINITE);
 }
 
+/* The observer update two rows a pass (mc_cdobc_observe_f32) against the
+ * row-by-row loop it replaced, the same operations in the same order:
+ * bit for bit, every order n, odd and even. */
+static void test_observe_matches_row_loop(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(2002);
+    for (uint32_t n = 1u; n <= MC_CDOBC_N_MAX; ++n) {
+        for (int rep = 0; rep < 200; ++rep) {
+            mc_cdobc_coef_f32_t k = { .n = n };
+            float w[MC_CDOBC_N_MAX];
+            for (uint32_t i = 0; i < n; ++i) {
+                for (uint32_t j = 0; j < n; ++j) {
+                    k.dPhi[i * n + j] = (float)test_rng_range(&rng, -0.1, 0.1);
+                }
+                k.Gn[i] = (float)test_rng_range(&rng, -1.0, 1.0);
+                k.Gu[i] = (float)test_rng_range(&rng, -1.0, 1.0);
+                k.Ld[i] = (float)test_rng_range(&rng, -10.0, 10.0);
+                k.g[i] = (float)test_rng_range(&rng, -5.0, 5.0);
+                w[i] = (float)test_rng_range(&rng, -100.0, 100.0);
+            }
+            const float nu_prev = (float)test_rng_range(&rng, -60.0, 60.0);
+            const float v_prev = (float)test_rng_range(&rng, -200.0, 200.0);
+            const float dnu = (float)test_rng_range(&rng, -2.0, 2.0);
+            const float v0 = (float)test_rng_range(&rng, -50.0, 50.0);
+            float ref[MC_CDOBC_N_MAX];
+            float v_ref = v0;
+            for (uint32_t i = 0; i < n; ++i) {
+                float s = w[i] + k.Gn[i] * nu_prev + k.Gu[i] * v_prev + k.Ld[i] * dnu;
+                for (uint32_t j = 0; j < n; ++j) {
+                    s += k.dPhi[i * n + j] * w[j];
+                }
+                ref[i] = s;
+            }
+            for (uint32_t i = 0; i < n; ++i) {
+                v_ref += k.g[i] * ref[i];
+            }
+            float out[MC_CDOBC_N_MAX];
+            const float v = mc_cdobc_observe_f32(&k, w, out, nu_prev, v_prev, dnu, v0);
+            assert_memory_equal(out, ref, n * sizeof out[0]);
+            assert_memory_equal(&v, &v_ref, sizeof v);
+        }
+    }
+}
+
+/* The ISR's step (mc_cdobc_step_core_f32) is the checked step without
+ * d_hat, and leaves the state as it was when it fails. */
+static void test_step_core(void **state)
+{
+    (void)state;
+    mc_cdobc_params_t p;
+    mc_cdobc_f32_t a, b;
+    start_cdobc(&p, &a, 10.0);
+    b = a;
+    for (int k = 0; k < 500; ++k) {
+        const float w = 10.0f + 0.01f * (float)k;
+        mc_cdobc_out_t oa, ob;
+        assert_int_equal(mc_cdobc_step_f32(&a, w, (float)RPM500, 0.1f, &oa), MC_OK);
+        assert_true(mc_cdobc_step_core_f32(&b, w, (float)RPM500, 0.1f, &ob));
+        assert_memory_equal(&oa.v_q_V, &ob.v_q_V, sizeof oa.v_q_V);
+        assert_memory_equal(&oa.v_d_V, &ob.v_d_V, sizeof oa.v_d_V);
+        assert_memory_equal(&oa.v_q_unsat_V, &ob.v_q_unsat_V, sizeof oa.v_q_unsat_V);
+        assert_int_equal(oa.q_limited, ob.q_limited);
+        assert_int_equal(oa.d_limited, ob.d_limited);
+        assert_memory_equal(mc_cdobc_state_f32(&a), mc_cdobc_state_f32(&b),
+                            a.coef.n * sizeof(float));
+    }
+    /* non-finite: false, the state in use and *out as they were */
+    const float bad[][3] = { { NAN, 1.0f, 0.0f }, { 1.0f, -INFINITY, 0.0f }, { 1.0f, 1.0f, NAN } };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        const mc_cdobc_f32_t keep = b;
+        mc_cdobc_out_t o;
+        memset(&o, 0x5a, sizeof o);
+        const mc_cdobc_out_t o0 = o;
+        assert_false(mc_cdobc_step_core_f32(&b, bad[i][0], bad[i][1], bad[i][2], &o));
+        assert_memory_equal(&o, &o0, sizeof o);
+        assert_int_equal(b.w_sel, keep.w_sel);
+        assert_memory_equal(b.w_buf[b.w_sel], keep.w_buf[keep.w_sel], sizeof b.w_buf[0]);
+        assert_memory_equal(&b.pi_d, &keep.pi_d, sizeof b.pi_d);
+        assert_true(b.nu_prev == keep.nu_prev && b.v_prev == keep.v_prev && b.v_cur == keep.v_cur);
+    }
+    /* a restart clears both halves */
+    assert_int_equal(mc_cdobc_reset_f32(&b, 0.0f), MC_OK);
+    for (uint32_t i = 0; i < MC_CDOBC_N_MAX; ++i) {
+        assert_true(b.w_buf[0][i] == 0.0f && b.w_buf[1][i] == 0.0f);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -578,6 +667,8 @@ int main(void)
         cmocka_unit_test(test_redesign_on_reference_change),
         cmocka_unit_test(test_saturation_fed_back),
         cmocka_unit_test(test_nonfinite_and_validation),
+        cmocka_unit_test(test_observe_matches_row_loop),
+        cmocka_unit_test(test_step_core),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,11 +8,13 @@
  *   computed by Faddeev-LeVerrier (eeo_test_linalg.h), is the requested one; its
  *   eigenvalues are the requested roots;
  * - the internal model's ZOH against an independent matrix exponential;
- * - input validation, non-finite handling, the integer position helpers.
+ * - input validation, non-finite handling, the integer position helpers;
+ * - the ISR's inline cores against the checked API, bit for bit.
  */
 #include "mc_test.h"
 
 #include <stdio.h>
+#include <string.h>
 
 #include "eeo_test_linalg.h"
 #include "mc/eeo.h"
@@ -83,14 +85,21 @@ static void test_recursion_matches_section6(void **state)
     assert_near(out[0], -7.0, 0.0);
 }
 
+/* The Section 6 instance on the Table 1 motor with the drive limit
+ * v_q_max_V. */
+static void init_instance(mc_eeo_f32_t *c, float v_q_max_V)
+{
+    mc_eeo_params_t p;
+    mc_eeo_params_paper000(&p, (float)TS_S, NP, (float)J_KGM2, (float)RAD_CNT);
+    p.v_q_max_V = v_q_max_V;
+    assert_int_equal(mc_eeo_init_f32(c, &p), MC_OK);
+}
+
 static void test_instance_gains(void **state)
 {
     (void)state;
-    mc_eeo_params_t p;
-    mc_eeo_params_paper000(&p, (float)TS_S, NP, (float)J_KGM2, (float)RAD_CNT);
-    p.v_q_max_V = 1e9f;
     mc_eeo_f32_t c;
-    assert_int_equal(mc_eeo_init_f32(&c, &p), MC_OK);
+    init_instance(&c, 1e9f);
     double a[4];
     section6_a(G3_MIN, G3_MAX, NP, a);
     const double k = 1e3;
@@ -300,6 +309,73 @@ static void test_integer_position(void **state)
     assert_int_equal(mc_eeo_counts_init(&cnt, 2u, 0u), MC_ERR_PARAM);
 }
 
+/* The ISR's pieces (mc/eeo.h): the step core is the checked step and
+ * leaves the state when it fails; the g3 core's guard; the internal
+ * model's update unrolled for the drive's order 3 against the loop, bit
+ * for bit. */
+static void test_isr_cores(void **state)
+{
+    (void)state;
+    mc_eeo_f32_t a;
+    init_instance(&a, 27.7f);
+    assert_int_equal(mc_eeo_reset_f32(&a, 3000, true), MC_OK);
+    mc_eeo_f32_t b = a;
+    for (int k = 0; k < 2000; ++k) {
+        const int32_t err = 3000 - 2 * k;
+        const float g3 = (float)(G3_NOM + 5e3 * sin(1e-2 * k));
+        assert_int_equal(mc_eeo_set_g3_f32(&a, g3), MC_OK);
+        assert_true(mc_eeo_set_g3_core_f32(&b, g3));
+        mc_eeo_out_t oa, ob;
+        assert_int_equal(mc_eeo_step_f32(&a, err, &oa), MC_OK);
+        assert_true(mc_eeo_step_core_f32(&b, err, &ob));
+        assert_memory_equal(&oa.v_q_V, &ob.v_q_V, sizeof oa.v_q_V);
+        assert_memory_equal(&oa.u_bar_V, &ob.u_bar_V, sizeof oa.u_bar_V);
+        assert_int_equal(oa.sat_N, ob.sat_N);
+        assert_int_equal(oa.v_limited, ob.v_limited);
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+    /* g3 core: a NaN fails the division's guard, nothing changes */
+    mc_eeo_f32_t keep = b;
+    assert_false(mc_eeo_set_g3_core_f32(&b, NAN));
+    assert_memory_equal(&b, &keep, sizeof b);
+    /* step core: a non-finite state is reported, the state in use and
+     * *out stay */
+    b.x[2] = INFINITY;
+    keep = b;
+    mc_eeo_out_t o;
+    memset(&o, 0x5a, sizeof o);
+    mc_eeo_out_t o0 = o;
+    assert_false(mc_eeo_step_core_f32(&b, 10, &o));
+    assert_memory_equal(&o, &o0, sizeof o);
+    assert_memory_equal(b.x, keep.x, sizeof b.x);
+    assert_int_equal(b.im_sel, keep.im_sel);
+    assert_memory_equal(b.eta[b.im_sel], keep.eta[keep.im_sel], sizeof b.eta[0]);
+    assert_memory_equal(b.eta_c[b.im_sel], keep.eta_c[keep.im_sel], sizeof b.eta_c[0]);
+    assert_memory_equal(b.u_hist, keep.u_hist, sizeof b.u_hist);
+    assert_true(b.r1 == keep.r1 && b.last_err_counts == keep.last_err_counts);
+    /* order 3 unrolled (a constant) and as the loop (a run-time value) */
+    volatile uint32_t n_run = 3u;
+    mc_eeo_f32_t c = a, d = a;
+    for (uint32_t i = 0; i < 3u; ++i) {
+        c.eta[c.im_sel][i] = (float)(0.3 * i - 0.4);
+        c.eta_c[c.im_sel][i] = (float)(1e-8 * i);
+    }
+    d = c;
+    const float gc = mc_eeo_gamma_eta_f32(&c, 3u);
+    const float gd = mc_eeo_gamma_eta_f32(&d, n_run);
+    assert_memory_equal(&gc, &gd, sizeof gc);
+    const float ac = mc_eeo_im_step_f32(&c, 0.7f, 3u);
+    const float ad = mc_eeo_im_step_f32(&d, 0.7f, n_run);
+    assert_true(ac == 0.0f && ad == 0.0f);
+    assert_memory_equal(&c, &d, sizeof c);
+    /* a restart clears both halves */
+    assert_int_equal(mc_eeo_reset_f32(&c, 0, true), MC_OK);
+    for (uint32_t i = 0; i < MC_EEO_NW_MAX; ++i) {
+        assert_true(c.eta[0][i] == 0.0f && c.eta[1][i] == 0.0f);
+        assert_true(c.eta_c[0][i] == 0.0f && c.eta_c[1][i] == 0.0f);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -309,6 +385,7 @@ int main(void)
         cmocka_unit_test(test_internal_model_zoh),
         cmocka_unit_test(test_validation),
         cmocka_unit_test(test_integer_position),
+        cmocka_unit_test(test_isr_cores),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,6 @@
 /*
- * Circular (d, q) limits against polar geometry in double.
+ * Circular (d, q) limits against polar geometry in double; the keep-angle
+ * limit bit for bit as before its common case went inline.
  */
 #include "mc_test.h"
 
@@ -128,6 +129,75 @@ static void test_non_finite_components_pass_through(void **state)
     }
 }
 
+/* The keep-angle limit as it was before its common case went inline
+ * (one function): the inline check and the out-of-line rest must give
+ * the same bits. */
+static bool keep_angle_before(float *x_d, float *x_q, float r_max)
+{
+    if (!((r_max >= FLT_MIN) && (r_max <= FLT_MAX))) {
+        *x_d = NAN;
+        *x_q = NAN;
+        return true;
+    }
+    if (!isfinite(*x_d) || !isfinite(*x_q)) {
+        return false;
+    }
+    const float d = *x_d;
+    const float q = *x_q;
+    const float inv_r = 1.0f / r_max;
+    const float d_n = d * inv_r;
+    const float q_n = q * inv_r;
+    const float mag2_n = d_n * d_n + q_n * q_n;
+    if (!(mag2_n > 1.0f)) {
+        return false;
+    }
+    float scale;
+    if (isfinite(mag2_n)) {
+        scale = 1.0f / sqrtf(mag2_n);
+    } else {
+        const float m = (fabsf(d) >= fabsf(q)) ? fabsf(d) : fabsf(q);
+        const float d_m = d / m;
+        const float q_m = q / m;
+        scale = (r_max / m) / sqrtf(d_m * d_m + q_m * q_m);
+    }
+    *x_d = d * scale;
+    *x_q = q * scale;
+    return true;
+}
+
+static void test_keep_angle_bits_as_before(void **state)
+{
+    (void)state;
+    const float special[] = { 0.0f,  -0.0f,    1.0f,      -1.0f,   0.70710677f, 1e-30f,
+                              1e30f, 3e38f,    -3e38f,    FLT_MIN, 1e-45f,      FLT_MAX,
+                              NAN,   INFINITY, -INFINITY, 0.5f };
+    const size_t n_s = sizeof special / sizeof special[0];
+    test_rng_t rng = test_rng_seed(63);
+    for (size_t k = 0; k < n_s * n_s * n_s + N_RANDOM; ++k) {
+        float d, q, r;
+        if (k < n_s * n_s * n_s) {
+            d = special[k % n_s];
+            q = special[(k / n_s) % n_s];
+            r = special[k / (n_s * n_s)];
+        } else {
+            const double scale = (k % 7u == 0u) ? 1e37 : 1.0;
+            r = (float)test_rng_range(&rng, 0.0, 2.0);
+            d = (float)(test_rng_range(&rng, -2.0, 2.0) * scale);
+            q = (float)(test_rng_range(&rng, -2.0, 2.0) * scale);
+        }
+        float d0 = d, q0 = q;
+        const bool before = keep_angle_before(&d0, &q0, r);
+        const bool now = mc_circle_limit_f32(&d, &q, r);
+        assert_int_equal(now, before);
+        assert_memory_equal(&d, &d0, sizeof d);
+        assert_memory_equal(&q, &q0, sizeof q);
+    }
+    /* the rest on its own: a finite vector inside is left */
+    float d = 0.3f, q = 0.4f;
+    assert_false(mc_circle_limit_outside_f32(&d, &q, 1.0f, 0.25f));
+    assert_true(d == 0.3f && q == 0.4f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -136,6 +206,7 @@ int main(void)
         cmocka_unit_test(test_extreme_magnitudes),
         cmocka_unit_test(test_invalid_radius_gives_nan),
         cmocka_unit_test(test_non_finite_components_pass_through),
+        cmocka_unit_test(test_keep_angle_bits_as_before),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
