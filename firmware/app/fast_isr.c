@@ -4,7 +4,6 @@
  * RUN is run_path.h, of ALIGN control_path.c. */
 #include <math.h>
 #include <stdatomic.h>
-#include <string.h>
 
 #include "app_internal.h"
 #include "dispatch.h"
@@ -19,6 +18,23 @@
 #include "run_path.h"
 
 #define MC_DUTY_ZERO_VOLTAGE 0.5f
+
+/* Clear the telemetry record word by word: its size is a multiple of 8
+ * (_Alignas(8)), and the C library's size-optimised memset costs about 170
+ * instructions for it on the M4, the unrolled stores about 40. The words
+ * are written through a may_alias type (GCC's documented exception to the
+ * aliasing rules). */
+typedef uint32_t mc_tlm_word_t __attribute__((may_alias));
+_Static_assert(sizeof(mc_telemetry_t) % 8u == 0u, "whole 8-byte units");
+
+static void tlm_clear(mc_telemetry_t *t)
+{
+    mc_tlm_word_t *w = (mc_tlm_word_t *)(void *)t;
+#pragma GCC unroll 64
+    for (uint32_t k = 0u; k < sizeof *t / sizeof *w; ++k) {
+        w[k] = 0u;
+    }
+}
 
 static void outputs_off(void)
 {
@@ -227,7 +243,7 @@ void mc_app_fast_isr(mc_app_t *app)
                             cmd->mode == app->mode;
     app->tlm_entry_state = app->state;
     if (!steady_run) {
-        memset(t, 0, sizeof *t);
+        tlm_clear(t);
     }
     t->slow_loop_ran = false; /* set by the outer loop's tick */
     t->v_dc_V = adc.v_dc_V;
