@@ -7,13 +7,13 @@
 #ifndef MC_APP_RUN_PATH_H
 #define MC_APP_RUN_PATH_H
 
-#include <float.h>
 #include <math.h>
 
 #include "app_internal.h"
 #include "dispatch.h"
 #include "mc/angle.h"
 #include "mc/compiler.h"
+#include "mc/finite.h"
 #include "mc/park.h"
 #include "mc/svpwm.h"
 
@@ -35,7 +35,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_modulate(mc_app_t *app,
     mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
     /* The bus here, the duties in check_outputs: the modulator itself runs
      * unchecked (a non-finite voltage gives non-finite duties). */
-    if (!(t->v_dc_V >= FLT_MIN)) {
+    if (!mc_positive_normal_f32(t->v_dc_V)) {
         return mc_drive_voltage_fault(t->v_dc_V);
     }
     mc_svpwm_out_f32_t pwm;

@@ -33,12 +33,11 @@ mc_status_t mc_current_limit_init_f32(mc_current_limit_f32_t *cl,
     return MC_OK;
 }
 
-/* The loop acting or winding back (mc_current_limit_step_f32 decided). */
-bool mc_current_limit_act_f32(mc_current_limit_f32_t *cl, float i_d_A,
-                              float i_q_A, float *v_d_V, float *v_q_V)
+bool mc_current_limit_act_f32(mc_current_limit_f32_t *cl, float i_sq_A2,
+                              float i_d_A, float i_q_A, float *v_d_V,
+                              float *v_q_V)
 {
-    const float i_sq = i_d_A * i_d_A + i_q_A * i_q_A;
-    const float i_mag = sqrtf(i_sq); /* i_sq >= 0 (or NaN: propagates) */
+    const float i_mag = sqrtf(i_sq_A2); /* >= 0 (or NaN: propagates) */
     const float e = i_mag - cl->limit_A;
     float u_int = cl->u_int_V + cl->ki_Ts_V_per_A * e;
     if (u_int < 0.0f) { /* wound back (a NaN is not clamped away) */

@@ -22,13 +22,12 @@ mc_status_t mc_emf_monitor_init_f32(mc_emf_monitor_f32_t *m,
     if (!mc_all_finite_f32(f, (uint32_t)(sizeof f / sizeof f[0]))) {
         return MC_ERR_NONFINITE;
     }
+    const float T_step = step_period_s(p);
     if (p->R_ohm < 0.0f || !(p->L_H > 0.0f) || !(p->psi_Wb > 0.0f) ||
         !(p->Ts_s > 0.0f) || p->decimation < 1u ||
-        p->decimation > MC_EMF_DECIMATION_MAX ||
-        !(p->filter_s >= step_period_s(p))) {
+        p->decimation > MC_EMF_DECIMATION_MAX || !(p->filter_s >= T_step)) {
         return MC_ERR_PARAM;
     }
-    const float T_step = step_period_s(p);
     *m = (mc_emf_monitor_f32_t){
         .R_ohm = p->R_ohm,
         .L_over_Ts_ohm = p->L_H / p->Ts_s,

@@ -56,17 +56,18 @@ static inline bool mc_current_limit_active_f32(const mc_current_limit_f32_t *cl)
     return cl->u_int_V > 0.0f;
 }
 
+/* The part of mc_current_limit_step_f32 that runs only above the limit or
+ * while the integral winds back, given |i_dq|^2 = i_sq_A2 of the sample.
+ * Interrupt context: yes. */
+bool mc_current_limit_act_f32(mc_current_limit_f32_t *cl, float i_sq_A2,
+                              float i_d_A, float i_q_A, float *v_d_V,
+                              float *v_q_V);
+
 /* One sample: the measured currents (A) and the controller's command
  * *v_d_V, *v_q_V (V), corrected in place when the loop acts. Returns true
  * while it acts. Bounded: one square root only above the limit or while
  * the integral winds back. Non-finite inputs propagate into the command.
  * Interrupt context: yes. */
-/* The part of the step below that runs only above the limit or while the
- * integral winds back. Interrupt context: yes. */
-bool mc_current_limit_act_f32(mc_current_limit_f32_t *cl, float i_d_A,
-                              float i_q_A, float *v_d_V, float *v_q_V);
-
-/* Interrupt context: yes. */
 MC_STATIC_FORCEINLINE bool mc_current_limit_step_f32(mc_current_limit_f32_t *cl,
                                                      float i_d_A, float i_q_A,
                                                      float *v_d_V, float *v_q_V)
@@ -76,7 +77,7 @@ MC_STATIC_FORCEINLINE bool mc_current_limit_step_f32(mc_current_limit_f32_t *cl,
         return false; /* the common case: no square root (a NaN current
                          goes on and propagates into the command) */
     }
-    return mc_current_limit_act_f32(cl, i_d_A, i_q_A, v_d_V, v_q_V);
+    return mc_current_limit_act_f32(cl, i_sq, i_d_A, i_q_A, v_d_V, v_q_V);
 }
 
 #endif /* MC_CURRENT_LIMIT_H */
