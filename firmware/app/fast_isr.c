@@ -92,17 +92,6 @@ MC_STATIC_FORCEINLINE void raise_faults(mc_app_t *app, uint32_t faults,
     }
 }
 
-/* The estimator: theta_e, theta_m, omega_m, tau_L_hat (and flux_ratio_sq)
- * into *t; a non-finite estimate is a fault. */
-static uint32_t estimate(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
-{
-    const uint32_t faults = mc_dispatch_estimator_step(app, &fr->in, t);
-    const float e[] = { t->theta_e_rad, t->theta_m_rad, t->omega_m_rad_s,
-                        t->tau_L_hat_Nm };
-    return faults |
-           (mc_all_finite_f32(e, 4u) ? MC_FAULT_NONE : MC_FAULT_NONFINITE);
-}
-
 /* The estimate against the measured back-EMF (mc/emf_monitor.h) over the
  * interval before this sample, on the slow tick in RUN: a sensorless
  * estimate that turns while the rotor does not is LOSS_OF_LOCK; an encoder
@@ -164,6 +153,19 @@ static uint32_t calibrate(mc_app_t *app, const float i_raw_A[3])
     return faults;
 }
 
+/* The RUN case of a steady ISR (mc_app_fast_isr: RUN, enabled, the same
+ * mode): the control path unless this ISR's protection stopped RUN. */
+MC_STATIC_FORCEINLINE void state_run_steady(mc_app_t *app,
+                                            const mc_command_t *cmd,
+                                            const mc_frame_t *fr,
+                                            mc_telemetry_t *t)
+{
+    app->clear_prev = cmd->clear_fault;
+    if (app->state == MC_STATE_RUN) {
+        raise_faults(app, mc_app_run(app, cmd, fr, t), t);
+    }
+}
+
 /* State transitions and actions of this ISR (after the protection). */
 static void state_machine(mc_app_t *app, const mc_command_t *cmd,
                           const float i_raw_A[3], uint32_t active,
@@ -202,6 +204,9 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
         if (!cmd->enable) {
             app->state = MC_STATE_IDLE;
         } else {
+            if (cmd->mode != app->mode) {
+                mc_app_change_mode(app, cmd, t);
+            }
             raise_faults(app, mc_app_run(app, cmd, fr, t), t);
         }
         break;
@@ -216,18 +221,20 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
     }
 }
 
-void mc_app_fast_isr(mc_app_t *app)
+/* The ISR's body. steady, a constant in each of the two instances: this
+ * ISR is in RUN after a RUN ISR, in the same mode, enabled, without a
+ * slow tick, a communication loss or an overrun streak: the common case,
+ * whose instance the compiler strips of everything else; the other
+ * instance runs every ISR with the same code. */
+MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
+                                    uint32_t t_start, const bool steady)
 {
-    const uint32_t t_start = hal_cycle_counter();
-    hal_gpio_debug_pin_set(true);
-    app->isr_count++;
     /* The slow tick (mc/app.h): the outer loop's and the supervision's. */
-    const bool slow_tick = (app->slow_count == 0u);
+    const bool slow_tick = !steady && (app->slow_count == 0u);
     if (++app->slow_count >= app->timing.slow_decimation) {
         app->slow_count = 0u;
     }
     app->drive.outer.tick = slow_tick;
-    const mc_command_t *cmd = mc_app_command(app);
 
     /* Sample (converted at this period's sampling instant). */
     hal_adc_sample_t adc;
@@ -238,11 +245,13 @@ void mc_app_fast_isr(mc_app_t *app)
      * ISR writes every field its path sets (the rest keep their zero), so
      * it spares the 152-byte clear. */
     mc_telemetry_t *const t = mc_app_tlm_begin(app);
-    const bool steady_run = app->state == MC_STATE_RUN &&
-                            app->tlm_entry_state == MC_STATE_RUN &&
-                            cmd->mode == app->mode;
-    app->tlm_entry_state = app->state;
-    if (!steady_run) {
+    const bool same_run = steady || (app->state == MC_STATE_RUN &&
+                                     app->tlm_entry_state == MC_STATE_RUN &&
+                                     cmd->mode == app->mode);
+    if (!steady) {
+        app->tlm_entry_state = app->state;
+    }
+    if (!same_run) {
         tlm_clear(t);
     }
     t->slow_loop_ran = false; /* set by the outer loop's tick */
@@ -254,34 +263,36 @@ void mc_app_fast_isr(mc_app_t *app)
     fr.in.encoder_count = hal_encoder_count();
     t->encoder_count = fr.in.encoder_count;
     fr.in.v_applied = &app->v_applied;
-    fr.in.running = (app->state == MC_STATE_RUN);
-    fr.in.theta_e_hold_rad = mc_align_theta_e_f32(&app->align);
+    fr.in.running = steady || (app->state == MC_STATE_RUN);
+    fr.in.theta_e_hold_rad = steady ? 0.0f /* unused in RUN */
+                                    : mc_align_theta_e_f32(&app->align);
     mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &fr.in.i_alpha_A,
                   &fr.in.i_beta_A);
 
     /* Protect and estimate: the causes present now. Under-voltage is not
      * checked in IDLE (the bus may be legitimately down while the drive is
      * off); in FAULT it is, so a clear waits for the bus to recover. */
-    const bool check_uv = (app->state != MC_STATE_IDLE);
+    const bool check_uv = steady || (app->state != MC_STATE_IDLE);
     uint32_t active = mc_faults_check_sample_fast(
         &app->cfg.protection, t->i_abc_A, t->v_dc_V, check_uv);
     if (hal_gpio_fault_input_active()) {
         active |= MC_FAULT_EXTERNAL;
     }
-    if (cmd->comm_lost) {
+    if (!steady && cmd->comm_lost) {
         active |= MC_FAULT_COMM_TIMEOUT;
     }
-    if (app->overrun_streak >= app->timing.isr_overrun_limit) {
+    if (!steady && app->overrun_streak >= app->timing.isr_overrun_limit) {
         active |= MC_FAULT_ISR_OVERRUN; /* still overrunning */
     }
-    active |= estimate(app, &fr, t);
+    /* the estimate into *t (finite: mc/estimator.h) */
+    active |= mc_dispatch_estimator_step(app, &fr.in, t);
     /* sin / cos of the controller's angle; measured d/q currents (Park)
      * for control and telemetry. */
-    mc_sincos_f32(t->theta_e_rad, &fr.s, &fr.c);
+    mc_sincos_inline_f32(t->theta_e_rad, &fr.s, &fr.c);
     mc_park_f32(fr.in.i_alpha_A, fr.in.i_beta_A, fr.s, fr.c, &t->i_d_A,
                 &t->i_q_A);
-    const bool running = (app->state == MC_STATE_RUN);
     if (slow_tick) {
+        const bool running = (app->state == MC_STATE_RUN);
         app->slow_faults =
             mc_supervisor_step(&app->supervisor, t, running,
                                running || app->state == MC_STATE_ALIGN,
@@ -293,14 +304,20 @@ void mc_app_fast_isr(mc_app_t *app)
     raise_faults(app, active, t);
 
     /* Transitions, calibration, control. */
-    state_machine(app, cmd, adc.i_abc_A, active, &fr, t);
+    if (steady) {
+        state_run_steady(app, cmd, &fr, t);
+    } else {
+        state_machine(app, cmd, adc.i_abc_A, active, &fr, t);
+    }
 
     /* Write: duties for the next period, or everything off. The voltage
      * they apply is recorded for the observers (mc/delay_comp.h). */
     if (app->state == MC_STATE_RUN || app->state == MC_STATE_ALIGN) {
         hal_pwm_set_duties(t->duty_abc);
-        hal_pwm_enable_outputs();
-        hal_gpio_power_stage_enable(true);
+        if (!steady) {
+            hal_pwm_enable_outputs();
+            hal_gpio_power_stage_enable(true);
+        }
     } else {
         outputs_off();
         for (uint32_t k = 0u; k < 3u; ++k) {
@@ -334,19 +351,52 @@ void mc_app_fast_isr(mc_app_t *app)
     hal_gpio_debug_pin_set(false);
 
     t->isr_count = app->isr_count;
-    t->state = app->state;
-    t->mode = cmd->mode;
-    t->faults_latched = app->faults_latched;
-    t->first_fault = app->first_fault;
-    t->faults_active = active;
-    t->outputs_enabled = hal_pwm_outputs_enabled();
     t->isr_cost_s = app->isr_cost_s;
     t->isr_cost_max_s = app->isr_cost_max_s;
     t->isr_overruns = app->isr_overruns;
-    if (!steady_run) { /* constant in RUN */
+    t->faults_active = active;
+    /* The rest is constant in RUN: a steady ISR still in RUN wrote it in
+     * an earlier ISR. */
+    if (!steady || app->state != MC_STATE_RUN) {
+        t->state = app->state;
+        t->mode = cmd->mode;
+        t->faults_latched = app->faults_latched;
+        t->first_fault = app->first_fault;
+        t->outputs_enabled = hal_pwm_outputs_enabled();
+    }
+    if (!same_run) {
         for (uint32_t k = 0u; k < 3u; ++k) {
             t->i_offset_abc_A[k] = app->i_offset_A[k];
         }
     }
     mc_app_tlm_end(app);
+}
+
+/* The two instances, out of line: each a tail call from mc_app_fast_isr,
+ * so their frames do not add up. */
+static __attribute__((noinline)) void
+isr_steady(mc_app_t *app, const mc_command_t *cmd, uint32_t t_start)
+{
+    isr_body(app, cmd, t_start, true);
+}
+
+static __attribute__((noinline)) void
+isr_general(mc_app_t *app, const mc_command_t *cmd, uint32_t t_start)
+{
+    isr_body(app, cmd, t_start, false);
+}
+
+void mc_app_fast_isr(mc_app_t *app)
+{
+    const uint32_t t_start = hal_cycle_counter();
+    hal_gpio_debug_pin_set(true);
+    app->isr_count++;
+    const mc_command_t *cmd = mc_app_command(app);
+    if (app->state == MC_STATE_RUN && app->tlm_entry_state == MC_STATE_RUN &&
+        app->slow_count != 0u && cmd->enable && cmd->mode == app->mode &&
+        !cmd->comm_lost && app->overrun_streak == 0u) {
+        isr_steady(app, cmd, t_start);
+    } else {
+        isr_general(app, cmd, t_start);
+    }
 }

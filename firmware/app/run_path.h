@@ -1,5 +1,5 @@
 /*
- * The RUN sample of the control path (mode change, the controller, the
+ * The RUN sample of the control path (mode change; the controller, the
  * current limit, the modulator, the output checks) and the modulator and
  * output check it shares with the ALIGN sample (control_path.c): inline
  * into the fast ISR, no call on its path. Private to firmware/app.
@@ -65,20 +65,26 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_check_outputs(const mc_telemetry_t *t)
                : MC_FAULT_NONFINITE;
 }
 
-/* One RUN sample of the control path: mode change, the controller, the
- * modulator, the output checks. Fault bits. Interrupt context: yes. */
+/* The command's mode differs from the last RUN ISR's: the controller's
+ * bumpless transfer, and this ISR ticks for the slow loop (the next tick
+ * N ISRs on). Interrupt context: yes. */
+static inline void mc_app_change_mode(mc_app_t *app, const mc_command_t *cmd,
+                                      const mc_telemetry_t *t)
+{
+    app->drive.outer.tick = true;
+    app->slow_count = (app->timing.slow_decimation > 1u) ? 1u : 0u;
+    mc_dispatch_controller_mode_change(app, app->mode, cmd->mode, t);
+    app->mode = cmd->mode;
+}
+
+/* One RUN sample of the control path in the command's mode (after
+ * mc_app_change_mode): the controller, the modulator, the output checks.
+ * Fault bits. Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
                                           const mc_command_t *cmd,
                                           const mc_frame_t *fr,
                                           mc_telemetry_t *t)
 {
-    if (cmd->mode != app->mode) {
-        /* this ISR ticks for the slow loop, the next tick N ISRs on */
-        app->drive.outer.tick = true;
-        app->slow_count = (app->timing.slow_decimation > 1u) ? 1u : 0u;
-        mc_dispatch_controller_mode_change(app, app->mode, cmd->mode, t);
-        app->mode = cmd->mode;
-    }
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
     uint32_t faults = mc_dispatch_controller_step(app, cmd, t);
     /* Every controller's voltage under the measured-current limit. */

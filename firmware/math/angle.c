@@ -28,27 +28,7 @@
  * k*MC_TWO_PI_2 are exact. */
 #define INV_TWO_PI 0.159154943091895335769f
 
-/* pi/2 = HALF_PI_1 + HALF_PI_2 + HALF_PI_3: 8, 9 and 23 significant bits.
- * |k| <= 25000*2/pi < 2^14, so k*HALF_PI_1 and k*HALF_PI_2 are exact. */
-#define HALF_PI_1 0x1.92p+0f
-#define HALF_PI_2 0x1.fbp-12f
-#define HALF_PI_3 0x1.5110b4p-22f
-#define TWO_BY_PI 0.636619772367581343076f
-
-#define SIN_S1 -1.666665524e-01f
-#define SIN_S2 8.332100697e-03f
-#define SIN_S3 -1.950396254e-04f
-#define COS_C1 -4.999989569e-01f
-#define COS_C2 4.165629297e-02f
-#define COS_C3 -1.359782298e-03f
-
 /* atan: MC_ATAN_A0..A6 in mc/angle.h (mc_atan2_unchecked_f32). */
-
-/* Nearest integer of x for |x| < 2^23 (no rintf: the M4F has no VRINT). */
-static int32_t round_to_i32(float x)
-{
-    return (int32_t)(x + ((x >= 0.0f) ? 0.5f : -0.5f));
-}
 
 static float reduce_two_pi(float theta_rad, int32_t k)
 {
@@ -63,7 +43,7 @@ float mc_wrap_pi_f32(float theta_rad)
     if (fabsf(theta_rad) <= MC_PI_F) {
         return (theta_rad == -MC_PI_F) ? MC_PI_F : theta_rad;
     }
-    int32_t k = round_to_i32(theta_rad * INV_TWO_PI);
+    int32_t k = mc_round_to_i32_f32(theta_rad * INV_TWO_PI);
     float r = reduce_two_pi(theta_rad, k);
     /* The product theta/(2 pi) rounds, so k can be one off next to an odd
      * multiple of pi: correct once (the reduction itself is exact). */
@@ -77,37 +57,7 @@ float mc_wrap_pi_f32(float theta_rad)
 
 void mc_sincos_f32(float theta_rad, float *sin_out, float *cos_out)
 {
-    if (!(fabsf(theta_rad) <= MC_ANGLE_MAX_ABS_RAD)) { /* also NaN */
-        *sin_out = NAN;
-        *cos_out = NAN;
-        return;
-    }
-    const int32_t k = round_to_i32(theta_rad * TWO_BY_PI);
-    const float k_f = (float)k;
-    const float x =
-        ((theta_rad - k_f * HALF_PI_1) - k_f * HALF_PI_2) - k_f * HALF_PI_3;
-    const float x2 = x * x;
-    const float s = x + x * x2 * (SIN_S1 + x2 * (SIN_S2 + x2 * SIN_S3));
-    const float c = 1.0f + x2 * (COS_C1 + x2 * (COS_C2 + x2 * COS_C3));
-    /* theta = k*pi/2 + x: rotate (s, c) by the quadrant k mod 4. */
-    switch ((uint32_t)k & 3u) {
-    case 0u:
-        *sin_out = s;
-        *cos_out = c;
-        break;
-    case 1u:
-        *sin_out = c;
-        *cos_out = -s;
-        break;
-    case 2u:
-        *sin_out = -s;
-        *cos_out = -c;
-        break;
-    default:
-        *sin_out = -c;
-        *cos_out = s;
-        break;
-    }
+    mc_sincos_inline_f32(theta_rad, sin_out, cos_out);
 }
 
 float mc_atan2_f32(float y, float x)

@@ -136,6 +136,65 @@ MC_STATIC_FORCEINLINE float mc_angle_diff_near_f32(float a_rad, float b_rad)
  */
 void mc_sincos_f32(float theta_rad, float *sin_out, float *cos_out);
 
+/* Nearest integer of x for |x| < 2^23 (no rintf: the M4F has no VRINT). */
+MC_STATIC_FORCEINLINE int32_t mc_round_to_i32_f32(float x)
+{
+    return (int32_t)(x + ((x >= 0.0f) ? 0.5f : -0.5f));
+}
+
+/* pi/2 = MC_HALF_PI_1 + MC_HALF_PI_2 + MC_HALF_PI_3: 8, 9 and 23
+ * significant bits. |k| <= 25000*2/pi < 2^14, so k*MC_HALF_PI_1 and
+ * k*MC_HALF_PI_2 are exact. Polynomials: angle.c's header comment. */
+#define MC_HALF_PI_1 0x1.92p+0f
+#define MC_HALF_PI_2 0x1.fbp-12f
+#define MC_HALF_PI_3 0x1.5110b4p-22f
+#define MC_TWO_BY_PI 0.636619772367581343076f
+#define MC_SINCOS_S1 -1.666665524e-01f
+#define MC_SINCOS_S2 8.332100697e-03f
+#define MC_SINCOS_S3 -1.950396254e-04f
+#define MC_SINCOS_C1 -4.999989569e-01f
+#define MC_SINCOS_C2 4.165629297e-02f
+#define MC_SINCOS_C3 -1.359782298e-03f
+
+/* mc_sincos_f32 inline (its body: the same results), for the fast ISR. */
+MC_STATIC_FORCEINLINE void mc_sincos_inline_f32(float theta_rad, float *sin_out,
+                                                float *cos_out)
+{
+    if (!(fabsf(theta_rad) <= MC_ANGLE_MAX_ABS_RAD)) { /* also NaN */
+        *sin_out = NAN;
+        *cos_out = NAN;
+        return;
+    }
+    const int32_t k = mc_round_to_i32_f32(theta_rad * MC_TWO_BY_PI);
+    const float k_f = (float)k;
+    const float x = ((theta_rad - k_f * MC_HALF_PI_1) - k_f * MC_HALF_PI_2) -
+                    k_f * MC_HALF_PI_3;
+    const float x2 = x * x;
+    const float s =
+        x + x * x2 * (MC_SINCOS_S1 + x2 * (MC_SINCOS_S2 + x2 * MC_SINCOS_S3));
+    const float c =
+        1.0f + x2 * (MC_SINCOS_C1 + x2 * (MC_SINCOS_C2 + x2 * MC_SINCOS_C3));
+    /* theta = k*pi/2 + x: rotate (s, c) by the quadrant k mod 4. */
+    switch ((uint32_t)k & 3u) {
+    case 0u:
+        *sin_out = s;
+        *cos_out = c;
+        break;
+    case 1u:
+        *sin_out = c;
+        *cos_out = -s;
+        break;
+    case 2u:
+        *sin_out = -s;
+        *cos_out = -c;
+        break;
+    default:
+        *sin_out = -c;
+        *cos_out = s;
+        break;
+    }
+}
+
 /*
  * Four-quadrant arctangent of y/x (octant reduction, one guarded division,
  * odd minimax polynomial). Result in [-MC_PI_F, MC_PI_F], max error

@@ -87,50 +87,53 @@ typedef struct {
 /* Application instance, owned by the caller (one per drive). Opaque:
  * the fields are private to firmware/app. */
 typedef struct {
-    mc_config_t cfg;
-    mc_timing_t timing;           /* from the HAL's realised PWM */
-    mc_estimator_info_t est_info; /* of cfg.estimator */
-    float s_per_cycle;            /* 1 / hal_cycle_counter_hz() */
+    /* The fields the fast ISR reads and writes every period come first:
+     * the M4's floating-point loads and stores reach 1020 bytes from the
+     * instance's address, one instruction more beyond. */
     mc_state_t state;
-    uint32_t faults_latched;
-    uint32_t first_fault; /* bits of the first faulting ISR */
-    mc_fault_event_t history[MC_FAULT_HISTORY_LEN]; /* ring */
-    volatile uint32_t history_count;                /* events since init */
-    volatile uint32_t history_seq; /* odd while the ISR writes */
-    mc_supervisor_t supervisor;    /* drive-level checks (mc/supervisor.h) */
-    mc_emf_check_f32_t emf;        /* the estimate against the measured
-                                      back-EMF (mc/emf_monitor.h) */
-    uint32_t slow_count;           /* ISRs since the last slow tick, mod N */
-    uint32_t slow_faults;          /* causes the supervision found at the latest
-                                      slow tick (held to the next) */
+    mc_mode_t mode;             /* mode of the previous RUN ISR */
+    mc_state_t tlm_entry_state; /* state at the previous ISR's entry */
     bool enable_armed;
     bool clear_prev;
+    uint32_t faults_latched;
+    uint32_t first_fault; /* bits of the first faulting ISR */
+    uint32_t slow_count;  /* ISRs since the last slow tick, mod N */
+    uint32_t slow_faults; /* causes the supervision found at the latest
+                             slow tick (held to the next) */
     /* command double buffer (mc_app_set_command) */
     mc_command_t cmd_buf[2];
     volatile uint32_t cmd_index;
-    mc_mode_t mode; /* mode of the previous RUN ISR */
-    /* calibration */
-    uint32_t calib_count;
-    float calib_sum_A[3];
     float i_offset_A[3];
-    /* estimation and control */
-    mc_drive_t drive;             /* blocks shared by the controllers */
-    mc_controller_instance_t ctl; /* the selected controller */
-    mc_estimator_instance_t est;  /* the selected estimator */
-    mc_align_f32_t align;         /* ALIGN sequence (sensorless) */
-    mc_delay_comp_f32_t delay_comp;
-    mc_applied_voltage_f32_t v_applied; /* commands -> voltage over the
-                                           last sample interval */
     /* deadline */
+    float s_per_cycle; /* 1 / hal_cycle_counter_hz() */
     uint32_t isr_count;
     float isr_cost_s; /* cost of the latest complete ISR */
     float isr_cost_max_s;
     uint32_t isr_overruns;   /* total */
     uint32_t overrun_streak; /* consecutive, up to the latest ISR */
+    mc_timing_t timing;      /* from the HAL's realised PWM */
     /* telemetry (sequence counter: odd while the ISR writes) */
     volatile uint32_t tlm_seq;
     mc_telemetry_t tlm;
-    mc_state_t tlm_entry_state; /* state at the previous ISR's entry */
+    /* estimation and control */
+    mc_applied_voltage_f32_t v_applied; /* commands -> voltage over the
+                                           last sample interval */
+    mc_delay_comp_f32_t delay_comp;
+    mc_drive_t drive;             /* blocks shared by the controllers */
+    mc_estimator_instance_t est;  /* the selected estimator */
+    mc_controller_instance_t ctl; /* the selected controller */
+    mc_config_t cfg;
+    mc_estimator_info_t est_info; /* of cfg.estimator */
+    mc_align_f32_t align;         /* ALIGN sequence (sensorless) */
+    mc_supervisor_t supervisor;   /* drive-level checks (mc/supervisor.h) */
+    mc_emf_check_f32_t emf;       /* the estimate against the measured
+                                     back-EMF (mc/emf_monitor.h) */
+    mc_fault_event_t history[MC_FAULT_HISTORY_LEN]; /* ring */
+    volatile uint32_t history_count;                /* events since init */
+    volatile uint32_t history_seq; /* odd while the ISR writes */
+    /* calibration */
+    uint32_t calib_count;
+    float calib_sum_A[3];
 } mc_app_t;
 
 /* Validate cfg (mc_config_validate), configure the HAL PWM (outputs off,

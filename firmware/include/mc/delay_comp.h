@@ -80,10 +80,10 @@ static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
  * 6th power (remainders below 1.2e-8 and 4e-10, under float32's
  * resolution); beyond, mc_sincos_f32 of the sum. NaN for non-finite
  * inputs when enabled. Interrupt context: yes. */
-static inline void mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc,
-                                            float theta_e_rad,
-                                            float omega_e_rad_s, float s_e,
-                                            float c_e, float *s_v, float *c_v)
+MC_STATIC_FORCEINLINE void
+mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float theta_e_rad,
+                         float omega_e_rad_s, float s_e, float c_e, float *s_v,
+                         float *c_v)
 {
     if (!dc->enabled) {
         *s_v = s_e;

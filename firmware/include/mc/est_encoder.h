@@ -42,6 +42,11 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_encoder_step(mc_est_encoder_t *est,
         e.count_jump) {
         return MC_FAULT_ENCODER;
     }
+    /* one finiteness test of the sample's estimates (mc/finite.h) */
+    if (e.theta_e_rad * 0.0f + e.theta_m_rad * 0.0f + e.omega_m_rad_s * 0.0f !=
+        0.0f) {
+        return MC_FAULT_NONFINITE;
+    }
     t->theta_e_rad = e.theta_e_rad;
     t->theta_m_rad = e.theta_m_rad;
     t->omega_m_rad_s = e.omega_m_rad_s;

@@ -13,7 +13,10 @@
  *   mc_est_<name>_step(est, in, t)          one sample: theta_e, theta_m,
  *                                           omega_m, tau_L_hat (and
  *                                           flux_ratio_sq) into *t; fault
- *                                           bits
+ *                                           bits. It writes only finite
+ *                                           values (a non-finite one is
+ *                                           MC_FAULT_NONFINITE and leaves
+ *                                           *t as it was)
  * Interrupt context: hold, start and step yes; the others no.
  */
 #ifndef MC_ESTIMATOR_H
