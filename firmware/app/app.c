@@ -47,6 +47,9 @@ mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
     app->enable_armed = true;
     app->cmd_buf[0].mode = MC_MODE_CURRENT;
     app->cmd_buf[1].mode = MC_MODE_CURRENT;
+    app->cmd_run_key[0] = mc_app_run_key(false, false, MC_MODE_CURRENT);
+    app->cmd_run_key[1] = app->cmd_run_key[0];
+    app->steady_key = MC_APP_NO_RUN_KEY;
     *mc_app_tlm_begin(app) = (mc_telemetry_t){
         .state = MC_STATE_IDLE,
         .mode = MC_MODE_CURRENT,
@@ -67,6 +70,8 @@ mc_status_t mc_app_set_command(mc_app_t *app, const mc_command_t *cmd)
      * the reverse, so it always copies a complete command. */
     const uint32_t next = (app->cmd_index + 1u) & 1u;
     app->cmd_buf[next] = *cmd;
+    app->cmd_run_key[next] =
+        mc_app_run_key(cmd->enable, cmd->comm_lost, cmd->mode);
     atomic_signal_fence(memory_order_seq_cst);
     app->cmd_index = next;
     return MC_OK;

@@ -7,10 +7,11 @@
 #include "mc/app.h"
 
 /* The sample of this ISR as the estimators and the control path see it
- * (Clarke once per ISR) and sin / cos of the controller's angle. */
+ * (Clarke once per ISR) and sin / cos of the controller's angle (from the
+ * estimator). */
 typedef struct {
     mc_est_input_t in;
-    float s, c;
+    mc_est_sincos_t sc;
 } mc_frame_t;
 
 /* Design every block of *app from cfg with the timing *tm (no HAL call):
@@ -27,6 +28,16 @@ mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
 static inline const mc_command_t *mc_app_command(const mc_app_t *app)
 {
     return &app->cmd_buf[app->cmd_index & 1u];
+}
+
+/* A command's enable, communication loss and mode in one word, so the
+ * fast ISR tests them in one comparison; no command's is
+ * MC_APP_NO_RUN_KEY (bits 2 to 7 are 0). Interrupt context: yes. */
+static inline uint32_t mc_app_run_key(bool enable, bool comm_lost,
+                                      mc_mode_t mode)
+{
+    return (uint32_t)enable | ((uint32_t)comm_lost << 1u) |
+           ((uint32_t)mode << 8u);
 }
 
 /* Writing the telemetry record in place: begin makes the sequence counter

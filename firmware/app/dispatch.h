@@ -132,13 +132,14 @@ MC_STATIC_FORCEINLINE uint32_t mc_dispatch_estimator_start(
 }
 
 /* Fault bits; NONFINITE for an estimator outside the list. */
-MC_STATIC_FORCEINLINE uint32_t mc_dispatch_estimator_step(
-    mc_app_t *app, const mc_est_input_t *in, mc_telemetry_t *t)
+MC_STATIC_FORCEINLINE uint32_t
+mc_dispatch_estimator_step(mc_app_t *app, const mc_est_input_t *in,
+                           mc_telemetry_t *t, mc_est_sincos_t *sc)
 {
     switch (app->cfg.estimator) {
 #define MC_X_CASE(name, NAME)                                                  \
     case MC_ESTIMATOR_##NAME:                                                  \
-        return mc_est_##name##_step(&app->est.name, in, t);
+        return mc_est_##name##_step(&app->est.name, in, t, sc);
         MC_ESTIMATORS(MC_X_CASE)
 #undef MC_X_CASE
     case MC_ESTIMATOR_COUNT: break;

@@ -95,7 +95,7 @@ MC_STATIC_FORCEINLINE void raise_faults(mc_app_t *app, uint32_t faults,
 /* The estimate against the measured back-EMF (mc/emf_monitor.h) over the
  * interval before this sample, on the slow tick in RUN: a sensorless
  * estimate that turns while the rotor does not is LOSS_OF_LOCK; an encoder
- * that slipped or froze is ENCODER. fr->s, fr->c: the sine and cosine of
+ * that slipped or froze is ENCODER. fr->sc: the sine and cosine of
  * the estimate's angle. */
 static uint32_t check_estimate(mc_app_t *app, const mc_frame_t *fr,
                                const mc_telemetry_t *t, bool running)
@@ -110,14 +110,14 @@ static uint32_t check_estimate(mc_app_t *app, const mc_frame_t *fr,
     const float w_e = app->drive.n_p * t->omega_m_rad_s;
     if (app->est_info.sensorless) {
         return mc_emf_check_sensorless_f32(&app->emf, fr->in.i_alpha_A,
-                                           fr->in.i_beta_A, v_al, v_be, fr->s,
-                                           fr->c, w_e)
+                                           fr->in.i_beta_A, v_al, v_be,
+                                           fr->sc.sin_e, fr->sc.cos_e, w_e)
                    ? MC_FAULT_LOSS_OF_LOCK
                    : MC_FAULT_NONE;
     }
     return mc_emf_check_encoder_f32(&app->emf, fr->in.i_alpha_A,
-                                    fr->in.i_beta_A, v_al, v_be, fr->s, fr->c,
-                                    w_e)
+                                    fr->in.i_beta_A, v_al, v_be, fr->sc.sin_e,
+                                    fr->sc.cos_e, w_e)
                ? MC_FAULT_ENCODER
                : MC_FAULT_NONE;
 }
@@ -223,7 +223,8 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
 
 /* The ISR's body. steady, a constant in each of the two instances: this
  * ISR is in RUN after a RUN ISR, in the same mode, enabled, without a
- * slow tick, a communication loss or an overrun streak: the common case,
+ * slow tick, a communication loss or an overrun streak (the last ISR's
+ * steady_key equals the command's run key): the common case,
  * whose instance the compiler strips of everything else; the other
  * instance runs every ISR with the same code. */
 MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
@@ -284,13 +285,12 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     if (!steady && app->overrun_streak >= app->timing.isr_overrun_limit) {
         active |= MC_FAULT_ISR_OVERRUN; /* still overrunning */
     }
-    /* the estimate into *t (finite: mc/estimator.h) */
-    active |= mc_dispatch_estimator_step(app, &fr.in, t);
-    /* sin / cos of the controller's angle; measured d/q currents (Park)
-     * for control and telemetry. */
-    mc_sincos_inline_f32(t->theta_e_rad, &fr.s, &fr.c);
-    mc_park_f32(fr.in.i_alpha_A, fr.in.i_beta_A, fr.s, fr.c, &t->i_d_A,
-                &t->i_q_A);
+    /* the estimate into *t (finite: mc/estimator.h) with the sine and
+     * cosine of its angle; measured d/q currents (Park) for control and
+     * telemetry. */
+    active |= mc_dispatch_estimator_step(app, &fr.in, t, &fr.sc);
+    mc_park_f32(fr.in.i_alpha_A, fr.in.i_beta_A, fr.sc.sin_e, fr.sc.cos_e,
+                &t->i_d_A, &t->i_q_A);
     if (slow_tick) {
         const bool running = (app->state == MC_STATE_RUN);
         app->slow_faults =
@@ -334,12 +334,15 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     /* Deadline check: counted; the limit-th consecutive overrun is a
      * fault, PWM off in this ISR. */
     const uint32_t cycles = hal_cycle_counter() - t_start;
-    app->isr_cost_s = (float)cycles * app->s_per_cycle;
-    if (app->isr_cost_s > app->isr_cost_max_s) {
-        app->isr_cost_max_s = app->isr_cost_s;
+    const float cost_s = (float)cycles * app->s_per_cycle;
+    app->isr_cost_s = cost_s;
+    if (cost_s > app->isr_cost_max_s) {
+        app->isr_cost_max_s = cost_s;
+        t->isr_cost_max_s = cost_s;
     }
-    if (app->isr_cost_s > app->timing.Ts_s) {
+    if (cost_s > app->timing.Ts_s) {
         app->isr_overruns++;
+        t->isr_overruns = app->isr_overruns;
         app->overrun_streak++;
         if (app->overrun_streak >= app->timing.isr_overrun_limit) {
             active |= MC_FAULT_ISR_OVERRUN;
@@ -351,13 +354,14 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     hal_gpio_debug_pin_set(false);
 
     t->isr_count = app->isr_count;
-    t->isr_cost_s = app->isr_cost_s;
-    t->isr_cost_max_s = app->isr_cost_max_s;
-    t->isr_overruns = app->isr_overruns;
-    t->faults_active = active;
-    /* The rest is constant in RUN: a steady ISR still in RUN wrote it in
-     * an earlier ISR. */
+    t->isr_cost_s = cost_s;
+    /* The rest is constant in RUN (no active fault; the maximum cost and
+     * the overruns written above when they change): a steady ISR still in
+     * RUN finds it in the record. */
     if (!steady || app->state != MC_STATE_RUN) {
+        t->isr_cost_max_s = app->isr_cost_max_s;
+        t->isr_overruns = app->isr_overruns;
+        t->faults_active = active;
         t->state = app->state;
         t->mode = cmd->mode;
         t->faults_latched = app->faults_latched;
@@ -370,6 +374,9 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
         }
     }
     mc_app_tlm_end(app);
+    app->steady_key = (app->state == MC_STATE_RUN && app->overrun_streak == 0u)
+                          ? mc_app_run_key(true, false, app->mode)
+                          : MC_APP_NO_RUN_KEY;
 }
 
 /* The two instances, out of line: each a tail call from mc_app_fast_isr,
@@ -391,10 +398,11 @@ void mc_app_fast_isr(mc_app_t *app)
     const uint32_t t_start = hal_cycle_counter();
     hal_gpio_debug_pin_set(true);
     app->isr_count++;
-    const mc_command_t *cmd = mc_app_command(app);
-    if (app->state == MC_STATE_RUN && app->tlm_entry_state == MC_STATE_RUN &&
-        app->slow_count != 0u && cmd->enable && cmd->mode == app->mode &&
-        !cmd->comm_lost && app->overrun_streak == 0u) {
+    const uint32_t k = app->cmd_index & 1u;
+    const mc_command_t *cmd = &app->cmd_buf[k];
+    /* steady (isr_body): the last ISR ended in RUN without an overrun
+     * streak and this command continues it, no slow tick */
+    if (app->cmd_run_key[k] == app->steady_key && app->slow_count != 0u) {
         isr_steady(app, cmd, t_start);
     } else {
         isr_general(app, cmd, t_start);

@@ -28,8 +28,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_modulate(mc_app_t *app,
     float s;
     float c;
     mc_delay_comp_sincos_f32(&app->delay_comp, t->theta_e_rad,
-                             app->drive.n_p * t->omega_m_rad_s, fr->s, fr->c,
-                             &s, &c);
+                             app->drive.n_p * t->omega_m_rad_s, fr->sc.sin_e,
+                             fr->sc.cos_e, &s, &c);
     float v_al;
     float v_be;
     mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);

@@ -84,6 +84,9 @@ typedef struct {
     float omega_m_rad_s; /* speed estimate */
 } mc_fault_event_t;
 
+/* mc_app_t.steady_key when RUN does not continue: no command's run key. */
+#define MC_APP_NO_RUN_KEY UINT32_MAX
+
 /* Application instance, owned by the caller (one per drive). Opaque:
  * the fields are private to firmware/app. */
 typedef struct {
@@ -102,7 +105,11 @@ typedef struct {
                              slow tick (held to the next) */
     /* command double buffer (mc_app_set_command) */
     mc_command_t cmd_buf[2];
+    uint32_t cmd_run_key[2]; /* mc_app_run_key of each buffer */
     volatile uint32_t cmd_index;
+    uint32_t steady_key; /* the run key of a command that continues this
+                            RUN in the next ISR, MC_APP_NO_RUN_KEY if RUN
+                            did not continue (mc_app_fast_isr) */
     float i_offset_A[3];
     /* deadline */
     float s_per_cycle; /* 1 / hal_cycle_counter_hz() */

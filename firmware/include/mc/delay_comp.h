@@ -68,18 +68,13 @@ static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
     dc->enabled = enabled;
 }
 
-/* |omega_e d Ts| up to which the advance is a rotation by a short series
- * (below), rad: 3300 rad/s electrical at 20 kHz with d = 1.5. */
-#define MC_DELAY_SERIES_MAX_RAD 0.25f
-
 /* Sine and cosine of the angle for the inverse Park of the voltage computed
  * now, theta_v = theta_e_rad + omega_e_rad_s * d * Ts if enabled, else
- * theta_e_rad, given s_e, c_e = sin, cos of theta_e_rad. For
- * |omega_e d Ts| <= MC_DELAY_SERIES_MAX_RAD, (s_e, c_e) rotated by the
- * advance with its sine and cosine from their Taylor series to the 5th and
- * 6th power (remainders below 1.2e-8 and 4e-10, under float32's
- * resolution); beyond, mc_sincos_f32 of the sum. NaN for non-finite
- * inputs when enabled. Interrupt context: yes. */
+ * theta_e_rad, given s_e, c_e = sin, cos of theta_e_rad: (s_e, c_e) rotated
+ * by the advance (mc_rotate_small_f32) up to MC_ROTATE_SERIES_MAX_RAD
+ * (3300 rad/s electrical at 20 kHz with d = 1.5); beyond, mc_sincos_f32
+ * of the sum. NaN for non-finite inputs when enabled. Interrupt context:
+ * yes. */
 MC_STATIC_FORCEINLINE void
 mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float theta_e_rad,
                          float omega_e_rad_s, float s_e, float c_e, float *s_v,
@@ -91,17 +86,9 @@ mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float theta_e_rad,
         return;
     }
     const float delta = omega_e_rad_s * dc->advance_s;
-    if (fabsf(delta) <= MC_DELAY_SERIES_MAX_RAD) { /* false for NaN */
-        const float d2 = delta * delta;
-        const float s_d =
-            delta * (1.0f - d2 * (1.0f / 6.0f - d2 * (1.0f / 120.0f)));
-        const float c_d =
-            1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f - d2 * (1.0f / 720.0f)));
-        *s_v = s_e * c_d + c_e * s_d;
-        *c_v = c_e * c_d - s_e * s_d;
-        return;
+    if (!mc_rotate_small_f32(s_e, c_e, delta, s_v, c_v)) {
+        mc_sincos_f32(theta_e_rad + delta, s_v, c_v);
     }
-    mc_sincos_f32(theta_e_rad + delta, s_v, c_v);
 }
 
 typedef struct {

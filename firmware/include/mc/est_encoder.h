@@ -34,22 +34,26 @@ MC_ESTIMATOR_INTERFACE(encoder);
 /* Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_est_encoder_step(mc_est_encoder_t *est,
                                                    const mc_est_input_t *in,
-                                                   mc_telemetry_t *t)
+                                                   mc_telemetry_t *t,
+                                                   mc_est_sincos_t *sc)
 {
     mc_encoder_estimate_t e;
     if (mc_encoder_tracker_update_inline_f32(&est->tracker, in->encoder_count,
                                              &e) != MC_OK ||
         e.count_jump) {
+        mc_sincos_f32(t->theta_e_rad, &sc->sin_e, &sc->cos_e);
         return MC_FAULT_ENCODER;
     }
     /* one finiteness test of the sample's estimates (mc/finite.h) */
     if (e.theta_e_rad * 0.0f + e.theta_m_rad * 0.0f + e.omega_m_rad_s * 0.0f !=
         0.0f) {
+        mc_sincos_f32(t->theta_e_rad, &sc->sin_e, &sc->cos_e);
         return MC_FAULT_NONFINITE;
     }
     t->theta_e_rad = e.theta_e_rad;
     t->theta_m_rad = e.theta_m_rad;
     t->omega_m_rad_s = e.omega_m_rad_s;
+    mc_sincos_inline_f32(e.theta_e_rad, &sc->sin_e, &sc->cos_e);
     return MC_FAULT_NONE;
 }
 

@@ -31,10 +31,11 @@ MC_ESTIMATOR_INTERFACE(flux_pll);
 /* Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
                                                     const mc_est_input_t *in,
-                                                    mc_telemetry_t *t)
+                                                    mc_telemetry_t *t,
+                                                    mc_est_sincos_t *sc)
 {
     if (!in->running) {
-        mc_flux_front_held(&est->front, in, t);
+        mc_flux_front_held(&est->front, in, t, sc);
         return MC_FAULT_NONE;
     }
     const mc_flux_front_sample_t s = mc_flux_front_update(&est->front, in);
@@ -47,7 +48,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
         .omega_m_rad_s = mc_pll_obs_omega_m_f32(&est->pll),
         .tau_L_Nm = mc_pll_obs_tau_L_f32(&est->pll),
     };
-    return mc_flux_front_finish(&est->front, &s, &sp, &est->pll.bounds, t);
+    return mc_flux_front_finish(&est->front, &s, &sp, false, &est->pll.bounds,
+                                t, sc);
 }
 
 #endif /* MC_EST_FLUX_PLL_H */

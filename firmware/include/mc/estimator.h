@@ -10,13 +10,15 @@
  *                                           this angle (ALIGN starts)
  *   mc_est_<name>_start(est, in)            restart at in->theta_e_hold_rad
  *                                           with this sample (ALIGN ends)
- *   mc_est_<name>_step(est, in, t)          one sample: theta_e, theta_m,
+ *   mc_est_<name>_step(est, in, t, sc)      one sample: theta_e, theta_m,
  *                                           omega_m, tau_L_hat (and
  *                                           flux_ratio_sq) into *t; fault
  *                                           bits. It writes only finite
  *                                           values (a non-finite one is
  *                                           MC_FAULT_NONFINITE and leaves
- *                                           *t as it was)
+ *                                           *t as it was), and the sine
+ *                                           and cosine of t->theta_e_rad
+ *                                           after the step into *sc
  * Interrupt context: hold, start and step yes; the others no.
  */
 #ifndef MC_ESTIMATOR_H
@@ -53,6 +55,13 @@ typedef struct {
     float theta_e_hold_rad; /* angle reported while held (the
                                ALIGN vector's) */
 } mc_est_input_t;
+
+/* The sine and cosine of the reported electrical angle, for the
+ * controller's Park and inverse Park: an estimator may have them cheaper
+ * than from the angle (mc/est_flux_front.h). */
+typedef struct {
+    float sin_e, cos_e;
+} mc_est_sincos_t;
 
 /* Declares the interface above for estimator `name`, after its
  * mc_est_<name>_config_t and mc_est_<name>_t: the parameter table and every

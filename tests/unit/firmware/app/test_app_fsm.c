@@ -414,6 +414,7 @@ static void test_steady_run_record_equals_cleared_record(void **state)
                                     app.cmd_buf[app.cmd_index].mode == app.mode;
                 ref = app;
                 ref.tlm_entry_state = MC_STATE_IDLE; /* forces the clear */
+                ref.steady_key = MC_APP_NO_RUN_KEY;  /* in the general ISR */
                 const hal_stub_t hal_in = g_hal;
                 mc_app_fast_isr(&ref);
                 g_hal = hal_in;

@@ -12,6 +12,7 @@
  */
 #include "mc_test.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -22,6 +23,17 @@
 #include "mc/faults.h"
 
 #define HOLD_RAD 0.5f
+
+/* The step's sine and cosine (mc/estimator.h) are those of the angle it
+ * reports: against double sin/cos of that angle, within the polynomial's
+ * error, the angle's own (the observer's atan2 when they come from its
+ * flux vector) and a few float roundings. */
+static void check_sincos(float theta_e_rad, const mc_est_sincos_t *sc)
+{
+    const double tol = MC_SINCOS_MAX_ABS_ERR + MC_ATAN2_MAX_ERR_RAD + 8.0 * FLT_EPSILON;
+    assert_true(fabs(sc->sin_e - sin((double)theta_e_rad)) <= tol);
+    assert_true(fabs(sc->cos_e - cos((double)theta_e_rad)) <= tol);
+}
 
 /* One estimator behind a uniform interface. */
 typedef struct {
@@ -39,7 +51,10 @@ typedef struct {
 #define EST_OPS(name, speed, speed_state)                                                          \
     static uint32_t name##_step(void *est, const mc_est_input_t *in, mc_telemetry_t *t)            \
     {                                                                                              \
-        return mc_est_##name##_step(est, in, t);                                                   \
+        mc_est_sincos_t sc;                                                                        \
+        const uint32_t faults = mc_est_##name##_step(est, in, t, &sc);                             \
+        check_sincos(t->theta_e_rad, &sc);                                                         \
+        return faults;                                                                             \
     }                                                                                              \
     static void name##_hold(void *est, float theta_e_rad)                                          \
     {                                                                                              \
