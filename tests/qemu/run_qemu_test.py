@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Run a Cortex-M4 image in QEMU (mps2-an386, -icount) and check its output.
 
-The image prints "CHECK <key> <value>" lines over semihosting and exits via
-semihosting with a status. This script requires that status and compares
+The image prints "CHECK <key> <value>" lines over semihosting (or a serial
+port: --serial-stdio N) and exits via semihosting with a status. This script requires that status and compares
 the values: --expect "key value tol" (|x - value| <= tol), --max "key limit"
 (x <= limit). Every key named must have been printed exactly once.
 
@@ -34,11 +34,17 @@ def main() -> int:
     ap.add_argument("--max", action="append", default=[])
     ap.add_argument("--budget", help="ISR budget file (tests/qemu/isr_budget.json)")
     ap.add_argument("--budget-image", help="the image's entry in the budget file")
+    ap.add_argument("--serial-stdio", type=int, default=None, metavar="N",
+                    help="route the board's serial port N (0-based) to stdout, "
+                         "the others to nothing (default: no serial port)")
     ap.add_argument("image")
     a = ap.parse_args()
 
+    serial = ["-serial", "none"]
+    if a.serial_stdio is not None:
+        serial = ["-serial", "null"] * a.serial_stdio + ["-serial", "stdio"]
     cmd = [a.qemu, "-M", a.machine, "-nographic", "-monitor", "none",
-           "-serial", "none",
+           *serial,
            "-semihosting-config", "enable=on,target=native",
            "-icount", f"shift={a.icount_shift},align=off,sleep=off",
            "-kernel", a.image]

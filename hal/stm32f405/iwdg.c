@@ -1,0 +1,19 @@
+/* The independent watchdog (iwdg.h). */
+#include "iwdg.h"
+
+#define IWDG_WAIT_LOOPS 100000u /* the registers latch in ~5 LSI periods */
+
+bool stm32_iwdg_start(void)
+{
+    stm32_iwdg_t *w = STM32_IWDG;
+    w->KR = IWDG_KEY_START; /* starts the LSI and the counter */
+    w->KR = IWDG_KEY_ACCESS;
+    w->PR = STM32_IWDG_PRESCALER_32;
+    w->RLR = STM32_IWDG_RELOAD;
+    bool latched = false;
+    for (uint32_t k = 0u; k < IWDG_WAIT_LOOPS && !latched; ++k) {
+        latched = (w->SR & (IWDG_SR_PVU | IWDG_SR_RVU)) == 0u;
+    }
+    w->KR = IWDG_KEY_RELOAD;
+    return latched;
+}
