@@ -42,11 +42,8 @@ typedef struct {
     STM32_REG CSR;       /* 0x74 */
 } stm32_rcc_t;
 
-#define RCC_CR_HSION         (1u << 0)
-#define RCC_CR_HSIRDY        (1u << 1)
 #define RCC_CR_HSEON         (1u << 16)
 #define RCC_CR_HSERDY        (1u << 17)
-#define RCC_CR_CSSON         (1u << 19)
 #define RCC_CR_PLLON         (1u << 24)
 #define RCC_CR_PLLRDY        (1u << 25)
 #define RCC_PLLCFGR_M_POS    0u  /* PLLM[5:0] */
@@ -62,7 +59,6 @@ typedef struct {
 #define RCC_CFGR_HPRE_POS    4u  /* HPRE[7:4], 0xxx: /1 */
 #define RCC_CFGR_PPRE1_POS   10u /* PPRE1[12:10]: 0xx /1, 100 /2, 101 /4 */
 #define RCC_CFGR_PPRE2_POS   13u /* PPRE2[15:13] */
-#define RCC_APB_DIV1         0u
 #define RCC_APB_DIV2         4u
 #define RCC_APB_DIV4         5u
 #define RCC_AHB1ENR_GPIO(n)  (1u << (n)) /* GPIOAEN .. GPIOIEN: 0 .. 8 */
@@ -73,21 +69,18 @@ typedef struct {
 #define RCC_APB1ENR_CAN1EN   (1u << 25)
 #define RCC_APB1ENR_PWREN    (1u << 28)
 #define RCC_APB2ENR_TIM1EN   (1u << 0)
-#define RCC_APB2ENR_USART1EN (1u << 4)
 #define RCC_APB2ENR_ADC1EN   (1u << 8)
 #define RCC_APB2ENR_ADC2EN   (1u << 9)
 #define RCC_APB2ENR_ADC3EN   (1u << 10)
-#define RCC_CSR_LSION        (1u << 0)
 
 /* ---- FLASH interface (RM0090 3.9) ------------------------------------ */
 typedef struct {
     STM32_REG ACR; /* 0x00 */
 } stm32_flash_t;
 
-#define FLASH_ACR_LATENCY_MASK 7u
-#define FLASH_ACR_PRFTEN       (1u << 8)
-#define FLASH_ACR_ICEN         (1u << 9)
-#define FLASH_ACR_DCEN         (1u << 10)
+#define FLASH_ACR_PRFTEN (1u << 8)
+#define FLASH_ACR_ICEN   (1u << 9)
+#define FLASH_ACR_DCEN   (1u << 10)
 
 /* ---- PWR (RM0090 5.4) ------------------------------------------------ */
 typedef struct {
@@ -138,11 +131,7 @@ typedef struct {
 #define TIM_CR1_CEN         (1u << 0)
 #define TIM_CR1_CMS_CENTER1 (1u << 5) /* CMS = 01: centre-aligned mode 1 */
 #define TIM_CR1_ARPE        (1u << 7)
-#define TIM_CR2_MMS_POS     4u /* MMS[6:4] */
-#define TIM_CR2_MMS_UPDATE  2u /* TRGO on update */
 #define TIM_SMCR_SMS_ENC3   3u /* encoder mode 3: both edges of TI1, TI2 */
-#define TIM_DIER_UIE        (1u << 0)
-#define TIM_SR_UIF          (1u << 0)
 #define TIM_SR_BIF          (1u << 7)
 #define TIM_EGR_UG          (1u << 0)
 #define TIM_CCMR_OC_PE      (1u << 3) /* OCxPE in the channel's byte */
@@ -150,7 +139,6 @@ typedef struct {
 #define TIM_CCMR_CC_TI      1u        /* CCxS = 01: input on TIx */
 #define TIM_CCER_CCE(ch)    (1u << (4u * (ch)))      /* ch 0..3 */
 #define TIM_CCER_CCNE(ch)   (1u << (4u * (ch) + 2u)) /* ch 0..2 */
-#define TIM_BDTR_DTG_MASK   0xFFu
 #define TIM_BDTR_OSSI       (1u << 10)
 #define TIM_BDTR_OSSR       (1u << 11)
 #define TIM_BDTR_BKE        (1u << 12)
@@ -179,17 +167,16 @@ typedef struct {
     STM32_REG CDR; /* 0x08 */
 } stm32_adc_common_t;
 
-#define ADC_SR_JEOC           (1u << 2)
-#define ADC_CR1_JEOCIE        (1u << 7)
-#define ADC_CR1_SCAN          (1u << 8)
-#define ADC_CR2_ADON          (1u << 0)
-#define ADC_CR2_JEXTSEL_POS   16u /* JEXTSEL[19:16] */
-#define ADC_CR2_JEXTEN_POS    20u /* JEXTEN[21:20] */
-#define ADC_JEXTSEL_TIM1_CC4  0u
-#define ADC_JEXTSEL_TIM1_TRGO 1u
-#define ADC_JEXTEN_RISING     1u
-#define ADC_JSQR_JL_POS       20u /* JL[21:20]: conversions - 1 */
-#define ADC_CCR_ADCPRE_POS    16u /* ADCPRE[17:16]: PCLK2 / (2 (n + 1)) */
+#define ADC_SR_JEOC          (1u << 2)
+#define ADC_CR1_JEOCIE       (1u << 7)
+#define ADC_CR1_SCAN         (1u << 8)
+#define ADC_CR2_ADON         (1u << 0)
+#define ADC_CR2_JEXTSEL_POS  16u /* JEXTSEL[19:16] */
+#define ADC_CR2_JEXTEN_POS   20u /* JEXTEN[21:20] */
+#define ADC_JEXTSEL_TIM1_CC4 0u
+#define ADC_JEXTEN_RISING    1u
+#define ADC_JSQR_JL_POS      20u /* JL[21:20]: conversions - 1 */
+#define ADC_CCR_ADCPRE_POS   16u /* ADCPRE[17:16]: PCLK2 / (2 (n + 1)) */
 #define ADC_CCR_MULTI_TRIPLE_INJ                                               \
     0x15u /* triple mode, injected simultaneous                                \
            */
@@ -220,7 +207,6 @@ typedef struct {
 } stm32_usart_t;
 
 #define USART_SR_TXE (1u << 7)
-#define USART_SR_TC  (1u << 6)
 #define USART_CR1_TE (1u << 3)
 #define USART_CR1_UE (1u << 13)
 
@@ -240,7 +226,6 @@ typedef struct {
 #define SPI_CR1_SSM    (1u << 9)
 #define SPI_CR1_DFF    (1u << 11) /* 16-bit frames */
 #define SPI_SR_RXNE    (1u << 0)
-#define SPI_SR_TXE     (1u << 1)
 #define SPI_SR_BSY     (1u << 7)
 
 /* ---- bxCAN (RM0090 32.9) --------------------------------------------- */
@@ -277,7 +262,6 @@ typedef struct {
 } stm32_can_t;
 
 #define CAN_MCR_INRQ      (1u << 0)
-#define CAN_MCR_SLEEP     (1u << 1)
 #define CAN_MCR_TXFP      (1u << 2)
 #define CAN_MCR_ABOM      (1u << 6)
 #define CAN_MSR_INAK      (1u << 0)
@@ -328,7 +312,6 @@ typedef struct {
 } stm32_scb_t;
 
 #define SCB_SHCSR_MEMFAULTENA (1u << 16)
-#define SCB_CPACR_ADDR        0xE000ED88u
 
 typedef struct {
     STM32_REG TYPE; /* 0xE000ED90 */
@@ -369,11 +352,9 @@ typedef struct {
 #define DEMCR_TRCENA       (1u << 24)
 
 /* Device interrupt numbers (RM0090 table 61) the port uses. */
-#define STM32_IRQ_ADC      18u
-#define STM32_IRQ_CAN1_RX0 20u
-#define STM32_IRQ_TIM1_BRK 24u
-#define STM32_IRQ_TIM2     28u
-#define STM32_IRQ_COUNT    82u
+#define STM32_IRQ_ADC   18u
+#define STM32_IRQ_TIM2  28u
+#define STM32_IRQ_COUNT 82u
 
 /* ---- instances ------------------------------------------------------- */
 #ifdef STM32_REGS_FAKE
@@ -388,7 +369,6 @@ typedef struct {
     X(stm32_adc_t, adc, [3])                                                   \
     X(stm32_adc_common_t, adc_common, )                                        \
     X(stm32_iwdg_t, iwdg, )                                                    \
-    X(stm32_usart_t, usart1, )                                                 \
     X(stm32_usart_t, usart2, )                                                 \
     X(stm32_spi_t, spi3, )                                                     \
     X(stm32_can_t, can1, )                                                     \
@@ -397,7 +377,6 @@ typedef struct {
     X(stm32_mpu_t, mpu, )                                                      \
     X(stm32_nvic_t, nvic, )                                                    \
     X(stm32_dwt_t, dwt, )                                                      \
-    X(uint32_t, cpacr, )                                                       \
     X(uint32_t, demcr, )
 #define STM32_FAKE_DECLARE(type, name, dims) extern type stm32_fake_##name dims;
 STM32_FAKE_LIST(STM32_FAKE_DECLARE)
@@ -412,7 +391,6 @@ STM32_FAKE_LIST(STM32_FAKE_DECLARE)
 #define STM32_ADC(n)     (&stm32_fake_adc[(n)-1])
 #define STM32_ADC_COMMON (&stm32_fake_adc_common)
 #define STM32_IWDG       (&stm32_fake_iwdg)
-#define STM32_USART1     (&stm32_fake_usart1)
 #define STM32_USART2     (&stm32_fake_usart2)
 #define STM32_SPI3       (&stm32_fake_spi3)
 #define STM32_CAN1       (&stm32_fake_can1)
@@ -421,7 +399,6 @@ STM32_FAKE_LIST(STM32_FAKE_DECLARE)
 #define STM32_MPU        (&stm32_fake_mpu)
 #define STM32_NVIC       (&stm32_fake_nvic)
 #define STM32_DWT        (&stm32_fake_dwt)
-#define STM32_CPACR      (&stm32_fake_cpacr)
 #define STM32_DEMCR      (&stm32_fake_demcr)
 #else
 #define STM32_PERIPH(type, addr) ((type *)(uintptr_t)(addr))
@@ -435,7 +412,6 @@ STM32_FAKE_LIST(STM32_FAKE_DECLARE)
 #define STM32_ADC(n)             STM32_PERIPH(stm32_adc_t, 0x40012000u + 0x100u * ((n)-1))
 #define STM32_ADC_COMMON         STM32_PERIPH(stm32_adc_common_t, 0x40012300u)
 #define STM32_IWDG               STM32_PERIPH(stm32_iwdg_t, 0x40003000u)
-#define STM32_USART1             STM32_PERIPH(stm32_usart_t, 0x40011000u)
 #define STM32_USART2             STM32_PERIPH(stm32_usart_t, 0x40004400u)
 #define STM32_SPI3               STM32_PERIPH(stm32_spi_t, 0x40003C00u)
 #define STM32_CAN1               STM32_PERIPH(stm32_can_t, 0x40006400u)
@@ -444,7 +420,6 @@ STM32_FAKE_LIST(STM32_FAKE_DECLARE)
 #define STM32_MPU                STM32_PERIPH(stm32_mpu_t, 0xE000ED90u)
 #define STM32_NVIC               STM32_PERIPH(stm32_nvic_t, 0xE000E100u)
 #define STM32_DWT                STM32_PERIPH(stm32_dwt_t, 0xE0001000u)
-#define STM32_CPACR              STM32_PERIPH(volatile uint32_t, SCB_CPACR_ADDR)
 #define STM32_DEMCR              STM32_PERIPH(volatile uint32_t, DEMCR_ADDR)
 #endif
 

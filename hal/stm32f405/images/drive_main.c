@@ -17,6 +17,7 @@
 #include "clock.h"
 #include "console.h"
 #include "hal/can.h"
+#include "hal/encoder.h"
 #include "hal_stm32.h"
 #include "iwdg.h"
 #include "mc/app.h"
@@ -86,8 +87,11 @@ int main(void)
         report("HAL init failed: ", (int32_t)hs);
         stm32_fatal("HAL init");
     }
+    /* the defaults (mc/config.h) with the board's encoder; the motor and
+     * the tuning come over CAN (parameter writes) */
     mc_config_t cfg;
     mc_config_init_default(&cfg);
+    cfg.encoder.counts_per_rev = hal_encoder_counts_per_rev();
     const mc_status_t st = mc_app_init(&app, &cfg);
     if (st != MC_OK) {
         report("drive init failed: ", (int32_t)st);
