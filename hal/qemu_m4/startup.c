@@ -1,22 +1,20 @@
 /*
  * Reset and exception vectors of the QEMU mps2-an386 image.
  *
- * Reset_Handler (naked, no compiler-generated code before the FPU is on):
- * enables CP10/CP11 full access in CPACR, copies .data if its load address
- * differs from its run address (not with the linker script here: LMA =
- * VMA), zeroes .bss, then calls main() and exits through semihosting with
- * main's return value. Every fault prints its name and exits with status
- * QEMU_M4_EXIT_FAULT.
+ * Reset_Handler (hal/cortex_m/reset_handler.h: FPU, .data (LMA = VMA
+ * with the linker script here: nothing to copy), .bss), then main(), and
+ * the exit through semihosting with main's return value. Every fault prints its
+ * name and exits with status QEMU_M4_EXIT_FAULT.
  */
 #include <stdint.h>
 
 #include "qemu_m4.h"
+#include "reset_handler.h"
 #include "semihost.h"
 
 extern uint32_t __StackTop;
 extern int main(void);
 
-void Reset_Handler(void);
 void qemu_m4_c_start(void);
 void NMI_Handler(void);
 void HardFault_Handler(void);
@@ -25,38 +23,7 @@ void BusFault_Handler(void);
 void UsageFault_Handler(void);
 void Default_Handler(void);
 
-__attribute__((naked, noreturn)) void Reset_Handler(void)
-{
-    __asm__ volatile(
-        /* CPACR (0xE000ED88): CP10 and CP11 full access, bits 20-23. */
-        "ldr r0, =0xE000ED88\n"
-        "ldr r1, [r0]\n"
-        "orr r1, r1, #(0xF << 20)\n"
-        "str r1, [r0]\n"
-        "dsb\n"
-        "isb\n"
-        /* .data: copy only when LMA != VMA. */
-        "ldr r0, =__data_load__\n"
-        "ldr r1, =__data_start__\n"
-        "ldr r2, =__data_end__\n"
-        "cmp r0, r1\n"
-        "beq 2f\n"
-        "1: cmp r1, r2\n"
-        "bhs 2f\n"
-        "ldr r3, [r0], #4\n"
-        "str r3, [r1], #4\n"
-        "b 1b\n"
-        /* .bss: zero. */
-        "2: ldr r1, =__bss_start__\n"
-        "ldr r2, =__bss_end__\n"
-        "movs r3, #0\n"
-        "3: cmp r1, r2\n"
-        "bhs 4f\n"
-        "str r3, [r1], #4\n"
-        "b 3b\n"
-        "4: bl qemu_m4_c_start\n"
-        "b .\n");
-}
+CORTEX_M_RESET_HANDLER(qemu_m4_c_start)
 
 void qemu_m4_c_start(void)
 {

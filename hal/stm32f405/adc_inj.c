@@ -39,7 +39,17 @@ bool stm32_adc_map_for(const stm32_board_t *b, stm32_adc_map_t *map)
     }
     for (uint32_t a = 0u; a < 3u; ++a) {
         if (len[a] == 0u) {
-            seq[a][len[a]++] = b->vbus_channel; /* a dummy conversion */
+            /* An ADC without a current (only when ADC1 has one: at least
+             * two currents, one per ADC; so ADC1's sequence is [current,
+             * bus], n = 2): dummy conversions of ADC1's two channels in
+             * the other order, so that no rank converts one channel on
+             * two ADCs at once (RM0090 13.9.1: no overlapping sampling of
+             * the same channel; the bus channel alone, as before, would
+             * meet ADC1's bus conversion in the second rank). */
+            for (uint32_t i = 0u; i < len[0]; ++i) {
+                seq[a][i] = seq[0][(i + 1u) % len[0]];
+            }
+            len[a] = len[0];
         }
         while (len[a] < n) {
             seq[a][len[a]] = seq[a][len[a] - 1u];

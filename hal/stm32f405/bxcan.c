@@ -43,6 +43,12 @@ bool stm32_can_timing_for(uint32_t pclk1_hz, uint32_t bitrate_bps,
         }
         /* sync (1) + tseg1 + tseg2 = quanta; sample after tseg1 */
         uint32_t tseg2 = (quanta + 4u) / 8u; /* 12.5 %, rounded */
+        if (quanta > 17u + tseg2) {
+            /* tseg1 at most 16: the latest sample point this quanta
+             * allows (without it, 21..25 quanta were never tried: no
+             * timing at all for a rate only 25 quanta divide) */
+            tseg2 = quanta - 17u;
+        }
         tseg2 = (tseg2 < 1u) ? 1u : ((tseg2 > 8u) ? 8u : tseg2);
         const uint32_t tseg1 = quanta - 1u - tseg2;
         if (tseg1 < 1u || tseg1 > 16u) {

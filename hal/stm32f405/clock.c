@@ -40,6 +40,10 @@ static bool wait_bits(volatile uint32_t *reg, uint32_t mask, uint32_t want,
     (RCC_CFGR_SW_MASK | (0xFu << RCC_CFGR_HPRE_POS) |                          \
      (7u << RCC_CFGR_PPRE1_POS) | (7u << RCC_CFGR_PPRE2_POS))
 
+/* PLLCFGR's reserved bits (15, 21:18, 23, 31:28; bit 29 resets to 1):
+ * kept at their value, as RM0090 7.3.2 asks. */
+#define PLLCFGR_RESERVED 0xF0BC8000u
+
 static void on_hsi(stm32_clock_status_t status, stm32_clocks_t *out)
 {
     stm32_rcc_t *rcc = STM32_RCC;
@@ -82,7 +86,8 @@ void stm32_clock_init(uint32_t hse_hz, uint32_t wait_loops, stm32_clocks_t *out)
     rcc->CFGR = (rcc->CFGR & ~CFGR_SET_MASK) | (0u << RCC_CFGR_HPRE_POS) |
                 (RCC_APB_DIV4 << RCC_CFGR_PPRE1_POS) |
                 (RCC_APB_DIV2 << RCC_CFGR_PPRE2_POS) | RCC_CFGR_SW_HSI;
-    rcc->PLLCFGR = (pll.m << RCC_PLLCFGR_M_POS) | (pll.n << RCC_PLLCFGR_N_POS) |
+    rcc->PLLCFGR = (rcc->PLLCFGR & PLLCFGR_RESERVED) |
+                   (pll.m << RCC_PLLCFGR_M_POS) | (pll.n << RCC_PLLCFGR_N_POS) |
                    ((pll.p / 2u - 1u) << RCC_PLLCFGR_P_POS) |
                    RCC_PLLCFGR_SRC_HSE | (pll.q << RCC_PLLCFGR_Q_POS);
     rcc->CR |= RCC_CR_PLLON;

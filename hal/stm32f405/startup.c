@@ -3,55 +3,25 @@
  * exceptions and 82 device interrupts; the table sits at the start of the
  * flash, aliased at 0, VTOR = 0x08000000 set explicitly).
  *
- * Reset_Handler (naked: nothing compiled runs before the FPU is on):
- * CP10/CP11 full access, .data copied from the flash, .bss zeroed, then
- * main(). Every fault and every unexpected interrupt calls stm32_fatal
- * (its default: all gates off and the console's report, then a wait for
- * the watchdog's reset; an image may define its own).
+ * Reset_Handler (hal/cortex_m/reset_handler.h: FPU, .data copied from the
+ * flash, .bss zeroed), then main(). Every fault and every unexpected interrupt
+ * calls stm32_fatal (its default: all gates off and the console's report, then
+ * a wait for the watchdog's reset; an image may define its own).
  */
 #include <stdint.h>
 
 #include "board.h"
 #include "gpio_cfg.h"
 #include "regs.h"
+#include "reset_handler.h"
 #include "startup.h"
 
 extern uint32_t __StackTop;
 extern int main(void);
 
-void Reset_Handler(void);
 void stm32_c_start(void);
 
-__attribute__((naked, noreturn)) void Reset_Handler(void)
-{
-    __asm__ volatile(
-        /* CPACR (0xE000ED88): CP10 and CP11 full access, bits 20-23. */
-        "ldr r0, =0xE000ED88\n"
-        "ldr r1, [r0]\n"
-        "orr r1, r1, #(0xF << 20)\n"
-        "str r1, [r0]\n"
-        "dsb\n"
-        "isb\n"
-        /* .data: copy from its load address in the flash. */
-        "ldr r0, =__data_load__\n"
-        "ldr r1, =__data_start__\n"
-        "ldr r2, =__data_end__\n"
-        "1: cmp r1, r2\n"
-        "bhs 2f\n"
-        "ldr r3, [r0], #4\n"
-        "str r3, [r1], #4\n"
-        "b 1b\n"
-        /* .bss: zero. */
-        "2: ldr r1, =__bss_start__\n"
-        "ldr r2, =__bss_end__\n"
-        "movs r3, #0\n"
-        "3: cmp r1, r2\n"
-        "bhs 4f\n"
-        "str r3, [r1], #4\n"
-        "b 3b\n"
-        "4: bl stm32_c_start\n"
-        "b .\n");
-}
+CORTEX_M_RESET_HANDLER(stm32_c_start)
 
 void stm32_c_start(void)
 {
