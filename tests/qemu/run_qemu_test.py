@@ -2,7 +2,9 @@
 """Run a Cortex-M4 image in QEMU (mps2-an386, -icount) and check its output.
 
 The image prints "CHECK <key> <value>" lines over semihosting (or a serial
-port: --serial-stdio N) and exits via semihosting with a status. This script requires that status and compares
+port: --serial-stdio N) and exits via semihosting with a status (or, with
+--run-for S, is stopped after S seconds; --expect-line REGEX: some output
+line must match). This script requires that status and compares
 the values: --expect "key value tol" (|x - value| <= tol), --max "key limit"
 (x <= limit). Every key named must have been printed exactly once.
 
@@ -37,6 +39,11 @@ def main() -> int:
     ap.add_argument("--serial-stdio", type=int, default=None, metavar="N",
                     help="route the board's serial port N (0-based) to stdout, "
                          "the others to nothing (default: no serial port)")
+    ap.add_argument("--run-for", type=float, default=None, metavar="S",
+                    help="the image is not expected to exit: stop QEMU after S s "
+                         "of wall time and check only its output")
+    ap.add_argument("--expect-line", action="append", default=[], metavar="REGEX",
+                    help="some output line must match REGEX (re.search)")
     ap.add_argument("image")
     a = ap.parse_args()
 
@@ -49,20 +56,33 @@ def main() -> int:
            "-icount", f"shift={a.icount_shift},align=off,sleep=off",
            "-kernel", a.image]
     t0 = time.monotonic()
+    stopped = False
     try:
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                           timeout=a.timeout, check=False)
-    except subprocess.TimeoutExpired:
-        print(f"FAIL: QEMU did not exit within {a.timeout} s")
-        return 1
-    out = p.stdout.decode(errors="replace")
+                           timeout=a.run_for if a.run_for is not None else a.timeout,
+                           check=False)
+        out, status = p.stdout, p.returncode
+    except subprocess.TimeoutExpired as e:
+        if a.run_for is None:
+            print(f"FAIL: QEMU did not exit within {a.timeout} s")
+            return 1
+        out, status, stopped = e.stdout or b"", None, True
+    out = out.decode(errors="replace")
     print(out, end="" if out.endswith("\n") else "\n")
-    print(f"[qemu exit status {p.returncode}, {time.monotonic() - t0:.1f} s wall]")
+    print(f"[qemu {'stopped after --run-for' if stopped else f'exit status {status}'}, "
+          f"{time.monotonic() - t0:.1f} s wall]")
 
     ok = True
-    if p.returncode != a.exit_status:
-        print(f"FAIL: exit status {p.returncode}, expected {a.exit_status}")
+    if a.run_for is not None and not stopped:
+        print(f"FAIL: the image exited (status {status}) within --run-for {a.run_for} s")
         ok = False
+    elif a.run_for is None and status != a.exit_status:
+        print(f"FAIL: exit status {status}, expected {a.exit_status}")
+        ok = False
+    for rx in a.expect_line:
+        good = re.search(rx, out, re.M) is not None
+        print(f"{'ok  ' if good else 'FAIL'} a line matches /{rx}/")
+        ok = ok and good
 
     values = {}
     for m in re.finditer(r"^CHECK (\S+) (\S+)\s*$", out, re.M):
