@@ -44,12 +44,10 @@ static bool wait_bits(volatile uint32_t *reg, uint32_t mask, uint32_t want,
  * kept at their value, as RM0090 7.3.2 asks. */
 #define PLLCFGR_RESERVED 0xF0BC8000u
 
-static void on_hsi(stm32_clock_status_t status, stm32_clocks_t *out)
+/* What runs on the HSI with every prescaler at 1. */
+static stm32_clocks_t hsi_clocks(stm32_clock_status_t status)
 {
-    stm32_rcc_t *rcc = STM32_RCC;
-    rcc->CFGR = (rcc->CFGR & ~CFGR_SET_MASK) | RCC_CFGR_SW_HSI; /* all /1 */
-    rcc->CR &= ~(RCC_CR_PLLON | RCC_CR_HSEON);
-    *out = (stm32_clocks_t){
+    return (stm32_clocks_t){
         .status = status,
         .sysclk_hz = STM32_HSI_HZ,
         .hclk_hz = STM32_HSI_HZ,
@@ -60,17 +58,21 @@ static void on_hsi(stm32_clock_status_t status, stm32_clocks_t *out)
     };
 }
 
+/* Back to the HSI after a failed step: SW = HSI, prescalers 1, PLL and
+ * HSE off. */
+static void on_hsi(stm32_clock_status_t status, stm32_clocks_t *out)
+{
+    stm32_rcc_t *rcc = STM32_RCC;
+    rcc->CFGR = (rcc->CFGR & ~CFGR_SET_MASK) | RCC_CFGR_SW_HSI; /* all /1 */
+    rcc->CR &= ~(RCC_CR_PLLON | RCC_CR_HSEON);
+    *out = hsi_clocks(status);
+}
+
 void stm32_clock_init(uint32_t hse_hz, uint32_t wait_loops, stm32_clocks_t *out)
 {
     stm32_pll_t pll;
     if (!stm32_clock_pll_for(hse_hz, &pll)) {
-        *out = (stm32_clocks_t){ .status = STM32_CLOCK_BAD_CRYSTAL,
-                                 .sysclk_hz = STM32_HSI_HZ,
-                                 .hclk_hz = STM32_HSI_HZ,
-                                 .pclk1_hz = STM32_HSI_HZ,
-                                 .pclk2_hz = STM32_HSI_HZ,
-                                 .tim_apb1_hz = STM32_HSI_HZ,
-                                 .tim_apb2_hz = STM32_HSI_HZ };
+        *out = hsi_clocks(STM32_CLOCK_BAD_CRYSTAL); /* nothing touched */
         return;
     }
     stm32_rcc_t *rcc = STM32_RCC;

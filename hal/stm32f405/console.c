@@ -52,3 +52,13 @@ void stm32_console_put_i32(int32_t v)
         put_char(buf[--n]);
     }
 }
+
+void stm32_boot(const char *what, stm32_clocks_t *clk)
+{
+    stm32_clock_init(stm32_board.hse_hz, STM32_CLOCK_WAIT_LOOPS, clk);
+    stm32_console_init(&stm32_board, clk->pclk1_hz);
+    stm32_console_puts(what);
+    stm32_console_puts(" ");
+    stm32_console_puts(stm32_board.name);
+    stm32_console_puts("\r\n");
+}

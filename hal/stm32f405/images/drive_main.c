@@ -73,11 +73,7 @@ static void report(const char *what, int32_t value)
 int main(void)
 {
     stm32_clocks_t clk;
-    stm32_clock_init(stm32_board.hse_hz, STM32_CLOCK_WAIT_LOOPS, &clk);
-    stm32_console_init(&stm32_board, clk.pclk1_hz);
-    stm32_console_puts("pmsm drive on ");
-    stm32_console_puts(stm32_board.name);
-    stm32_console_puts("\r\n");
+    stm32_boot("pmsm drive on", &clk);
     report("clock status ", (int32_t)clk.status);
     report("sysclk Hz ", (int32_t)clk.sysclk_hz);
     stm32_stack_guard_init((uint32_t)(uintptr_t)&__stack_guard__);

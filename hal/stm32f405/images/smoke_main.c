@@ -120,11 +120,7 @@ static int32_t measure_systick_period(void)
 int main(void)
 {
     stm32_clocks_t clk;
-    stm32_clock_init(stm32_board.hse_hz, STM32_CLOCK_WAIT_LOOPS, &clk);
-    stm32_console_init(&stm32_board, clk.pclk1_hz);
-    stm32_console_puts("STM32F405 port smoke image, board ");
-    stm32_console_puts(stm32_board.name);
-    stm32_console_puts("\r\n");
+    stm32_boot("STM32F405 port smoke image, board", &clk);
     check("clock_status", (int32_t)clk.status);
     check("sysclk_hz", (int32_t)clk.sysclk_hz);
 
