@@ -113,5 +113,15 @@ void stm32_adc_inj_init(const stm32_board_t *b, const stm32_adc_map_t *map)
                               : 0u);
     }
     STM32_NVIC->IPR[STM32_IRQ_ADC] = 0u; /* the highest priority */
-    STM32_NVIC->ISER[STM32_IRQ_ADC / 32u] = 1u << (STM32_IRQ_ADC % 32u);
+}
+
+void stm32_adc_irq_enable(bool on)
+{
+    const uint32_t bit = 1u << (STM32_IRQ_ADC % 32u);
+    if (on) {
+        STM32_NVIC->ISER[STM32_IRQ_ADC / 32u] = bit;
+    } else {
+        STM32_NVIC->ICER[STM32_IRQ_ADC / 32u] = bit;
+        stm32_barrier(); /* no ADC interrupt past this point */
+    }
 }

@@ -33,7 +33,12 @@ typedef struct {
 bool stm32_adc_map_for(const stm32_board_t *b, stm32_adc_map_t *map);
 
 /* Configure the three ADCs (after stm32_adc_map_for), the analog pins and
- * the interrupt on ADC1's JEOC. */
+ * the interrupt on ADC1's JEOC at the highest priority, not yet enabled
+ * in the NVIC: the image enables it once the drive is initialised. */
 void stm32_adc_inj_init(const stm32_board_t *b, const stm32_adc_map_t *map);
+
+/* The fast ISR (the ADC interrupt) on or off in the NVIC; off also waits
+ * until no ADC interrupt can start any more. */
+void stm32_adc_irq_enable(bool on);
 
 #endif /* STM32_ADC_INJ_H */

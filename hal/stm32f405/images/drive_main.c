@@ -13,6 +13,7 @@
  */
 #include <stdint.h>
 
+#include "adc_inj.h"
 #include "board.h"
 #include "clock.h"
 #include "console.h"
@@ -33,33 +34,18 @@ extern uint32_t __stack_guard__;
 
 static mc_app_t app;
 static mc_can_node_t node;
-static volatile bool app_ready;
-
 void ADC_IRQHandler(void)
 {
     stm32_hal_isr_ack();
-    if (app_ready) {
-        mc_app_fast_isr(&app);
-    }
-}
-
-static void adc_irq_enable(bool on)
-{
-    const uint32_t bit = 1u << (STM32_IRQ_ADC % 32u);
-    if (on) {
-        STM32_NVIC->ISER[STM32_IRQ_ADC / 32u] = bit;
-    } else {
-        STM32_NVIC->ICER[STM32_IRQ_ADC / 32u] = bit;
-        stm32_barrier();
-    }
+    mc_app_fast_isr(&app);
 }
 
 static mc_status_t apply_config(void *ctx, const mc_config_t *cfg)
 {
     (void)ctx;
-    adc_irq_enable(false);
+    stm32_adc_irq_enable(false);
     const mc_status_t st = mc_app_init(&app, cfg);
-    adc_irq_enable(true);
+    stm32_adc_irq_enable(true);
     return st;
 }
 
@@ -100,7 +86,7 @@ int main(void)
     if (mc_can_node_init(&node, &ncfg, &cfg, apply_config, NULL) != MC_OK) {
         stm32_fatal("CAN node init");
     }
-    app_ready = true;
+    stm32_adc_irq_enable(true); /* the fast ISR runs from here */
     if (!stm32_iwdg_start()) {
         stm32_fatal("watchdog");
     }

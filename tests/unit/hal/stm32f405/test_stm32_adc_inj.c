@@ -310,7 +310,9 @@ static void check_init_common(const stm32_adc_map_t *m)
 
     assert_int_equal(stm32_fake_rcc.APB2ENR,
                      RM_APB2ENR_ADC1EN | RM_APB2ENR_ADC2EN | RM_APB2ENR_ADC3EN);
-    assert_int_equal(stm32_fake_nvic.ISER[0], 1u << RM_IRQ_ADC);
+    /* the priority set, the interrupt not yet enabled (the image enables
+     * it once the drive is initialised: stm32_adc_irq_enable) */
+    assert_int_equal(stm32_fake_nvic.ISER[0], 0u);
     assert_int_equal(stm32_fake_nvic.IPR[RM_IRQ_ADC], 0u);
 }
 
@@ -382,12 +384,29 @@ static void test_init_three_shunts(void **state)
     assert_int_equal(stm32_fake_rcc.AHB1ENR, RM_AHB1ENR_GPIOAEN);
 }
 
+/* The fast ISR on and off: the NVIC's set-enable and clear-enable
+ * registers (ARMv7-M B3.4: ISER/ICER word n, bit m for interrupt 32 n + m;
+ * writing 0 bits has no effect, so only the ADC's bit is written). */
+static void test_irq_enable(void **state)
+{
+    (void)state;
+    stm32_fake_reset();
+    stm32_adc_irq_enable(true);
+    assert_int_equal(stm32_fake_nvic.ISER[RM_IRQ_ADC / 32u], 1u << (RM_IRQ_ADC % 32u));
+    assert_int_equal(stm32_fake_nvic.ICER[RM_IRQ_ADC / 32u], 0u);
+    stm32_fake_reset();
+    stm32_adc_irq_enable(false);
+    assert_int_equal(stm32_fake_nvic.ICER[RM_IRQ_ADC / 32u], 1u << (RM_IRQ_ADC % 32u));
+    assert_int_equal(stm32_fake_nvic.ISER[RM_IRQ_ADC / 32u], 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_map_odrive),          cmocka_unit_test(test_map_three_shunts),
         cmocka_unit_test(test_map_every_placement), cmocka_unit_test(test_map_rejections),
         cmocka_unit_test(test_init_odrive),         cmocka_unit_test(test_init_three_shunts),
+        cmocka_unit_test(test_irq_enable),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
