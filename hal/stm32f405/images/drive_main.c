@@ -34,6 +34,7 @@ extern uint32_t __stack_guard__;
 
 static mc_app_t app;
 static mc_can_node_t node;
+
 void ADC_IRQHandler(void)
 {
     stm32_hal_isr_ack();
