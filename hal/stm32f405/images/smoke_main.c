@@ -15,6 +15,10 @@
  *   systick_period_tim2_counts  TIM2 counts per SysTick interrupt: SysTick
  *                   set for 1 kHz, TIM2 counting freely at 1 MHz, both
  *                   in QEMU's virtual time (-icount): 1000 expected
+ *   drv8301_status  the gate driver's set-up over SPI3 (QEMU models the
+ *                   SPI, with no chip on it): five frames exchanged
+ *                   without a timeout, every answer 0, so the read-back
+ *                   check fails: 2 (STM32_DRV_READBACK) expected
  * Then it reads the stack guard: the MPU must turn that into a MemManage
  * fault, whose handler exits QEMU with status SMOKE_EXIT_GUARD (any other
  * fault: SMOKE_EXIT_FAULT).
@@ -25,6 +29,7 @@
 #include "board.h"
 #include "clock.h"
 #include "console.h"
+#include "drv8301.h"
 #include "regs.h"
 #include "semihost.h"
 #include "stack_guard.h"
@@ -135,6 +140,7 @@ int main(void)
                              sp <= (uint32_t)(uintptr_t)&__StackTop);
     check("data_copied", data_word == 0x5A5AA5A5u && bss_word == 0u);
     check("systick_period_tim2_counts", measure_systick_period());
+    check("drv8301_status", (int32_t)stm32_drv8301_setup(&stm32_board));
 
     stm32_stack_guard_init((uint32_t)(uintptr_t)&__stack_guard__);
     stm32_console_puts("reading the stack guard\r\n");
