@@ -22,12 +22,18 @@ typedef struct {
 mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
                              const mc_timing_t *tm);
 
-/* The command of this ISR: the buffer mc_app_set_command completed last
- * (the writer runs in thread context, which the ISR preempts: the buffer
+/* The slot of cmd_buf (and cmd_run_key) mc_app_set_command completed last
+ * (the writer runs in thread context, which the ISR preempts: the slot
  * does not change while the ISR runs). Interrupt context: yes. */
+static inline uint32_t mc_app_command_slot(const mc_app_t *app)
+{
+    return app->cmd_index & 1u;
+}
+
+/* The command of this ISR: that slot's buffer. Interrupt context: yes. */
 static inline const mc_command_t *mc_app_command(const mc_app_t *app)
 {
-    return &app->cmd_buf[app->cmd_index & 1u];
+    return &app->cmd_buf[mc_app_command_slot(app)];
 }
 
 /* A command's enable, communication loss and mode in one word, so the

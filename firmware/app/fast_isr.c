@@ -398,7 +398,7 @@ void mc_app_fast_isr(mc_app_t *app)
     const uint32_t t_start = hal_cycle_counter();
     hal_gpio_debug_pin_set(true);
     app->isr_count++;
-    const uint32_t k = app->cmd_index & 1u;
+    const uint32_t k = mc_app_command_slot(app);
     const mc_command_t *cmd = &app->cmd_buf[k];
     /* steady (isr_body): the last ISR ended in RUN without an overrun
      * streak and this command continues it, no slow tick */

@@ -69,12 +69,7 @@ bool stm32_can_timing_for(uint32_t pclk1_hz, uint32_t bitrate_bps,
 
 static bool wait_msr(uint32_t mask, uint32_t want)
 {
-    for (uint32_t k = 0u; k < CAN_WAIT_LOOPS; ++k) {
-        if ((STM32_CAN1->MSR & mask) == want) {
-            return true;
-        }
-    }
-    return false;
+    return stm32_wait_bits(&STM32_CAN1->MSR, mask, want, CAN_WAIT_LOOPS);
 }
 
 hal_status_t stm32_can_init(const stm32_board_t *b, uint32_t pclk1_hz,

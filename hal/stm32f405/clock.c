@@ -22,18 +22,6 @@ bool stm32_clock_pll_for(uint32_t hse_hz, stm32_pll_t *pll)
     return true;
 }
 
-/* Wait until (reg & mask) == want, at most `loops` reads. */
-static bool wait_bits(volatile uint32_t *reg, uint32_t mask, uint32_t want,
-                      uint32_t loops)
-{
-    for (uint32_t k = 0u; k < loops; ++k) {
-        if ((*reg & mask) == want) {
-            return true;
-        }
-    }
-    return false;
-}
-
 /* CFGR's fields the code sets: SW, HPRE, PPRE1, PPRE2 (read-modify-write:
  * the rest, SWS among them, as they are). */
 #define CFGR_SET_MASK                                                          \
@@ -77,7 +65,7 @@ void stm32_clock_init(uint32_t hse_hz, uint32_t wait_loops, stm32_clocks_t *out)
     }
     stm32_rcc_t *rcc = STM32_RCC;
     rcc->CR |= RCC_CR_HSEON;
-    if (!wait_bits(&rcc->CR, RCC_CR_HSERDY, RCC_CR_HSERDY, wait_loops)) {
+    if (!stm32_wait_bits(&rcc->CR, RCC_CR_HSERDY, RCC_CR_HSERDY, wait_loops)) {
         on_hsi(STM32_CLOCK_HSE_TIMEOUT, out);
         return;
     }
@@ -93,13 +81,13 @@ void stm32_clock_init(uint32_t hse_hz, uint32_t wait_loops, stm32_clocks_t *out)
                    ((pll.p / 2u - 1u) << RCC_PLLCFGR_P_POS) |
                    RCC_PLLCFGR_SRC_HSE | (pll.q << RCC_PLLCFGR_Q_POS);
     rcc->CR |= RCC_CR_PLLON;
-    if (!wait_bits(&rcc->CR, RCC_CR_PLLRDY, RCC_CR_PLLRDY, wait_loops)) {
+    if (!stm32_wait_bits(&rcc->CR, RCC_CR_PLLRDY, RCC_CR_PLLRDY, wait_loops)) {
         on_hsi(STM32_CLOCK_PLL_TIMEOUT, out);
         return;
     }
     rcc->CFGR = (rcc->CFGR & ~RCC_CFGR_SW_MASK) | RCC_CFGR_SW_PLL;
-    if (!wait_bits(&rcc->CFGR, RCC_CFGR_SWS_MASK, RCC_CFGR_SWS_PLL,
-                   wait_loops)) {
+    if (!stm32_wait_bits(&rcc->CFGR, RCC_CFGR_SWS_MASK, RCC_CFGR_SWS_PLL,
+                         wait_loops)) {
         on_hsi(STM32_CLOCK_SWITCH_TIMEOUT, out);
         return;
     }

@@ -21,11 +21,9 @@ void stm32_console_init(const stm32_board_t *b, uint32_t pclk1_hz)
 static void put_char(char c)
 {
     stm32_usart_t *u = STM32_USART2;
-    for (uint32_t k = 0u; k < CONSOLE_WAIT_LOOPS; ++k) {
-        if ((u->SR & USART_SR_TXE) != 0u) {
-            break;
-        }
-    }
+    /* on a timeout the character is written anyway (and may be lost) */
+    (void)stm32_wait_bits(&u->SR, USART_SR_TXE, USART_SR_TXE,
+                          CONSOLE_WAIT_LOOPS);
     u->DR = (uint32_t)(unsigned char)c;
 }
 

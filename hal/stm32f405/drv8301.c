@@ -13,16 +13,10 @@ static bool transfer(const stm32_board_t *b, uint16_t out, uint16_t *in)
     stm32_spi_t *spi = STM32_SPI3;
     stm32_gpio_write(&b->spi_cs, false);
     spi->DR = out;
-    bool done = false;
-    for (uint32_t k = 0u; k < SPI_WAIT_LOOPS && !done; ++k) {
-        done = (spi->SR & SPI_SR_RXNE) != 0u;
-    }
+    const bool done =
+        stm32_wait_bits(&spi->SR, SPI_SR_RXNE, SPI_SR_RXNE, SPI_WAIT_LOOPS);
     *in = (uint16_t)spi->DR;
-    for (uint32_t k = 0u; k < SPI_WAIT_LOOPS; ++k) {
-        if ((spi->SR & SPI_SR_BSY) == 0u) {
-            break;
-        }
-    }
+    (void)stm32_wait_bits(&spi->SR, SPI_SR_BSY, 0u, SPI_WAIT_LOOPS);
     stm32_gpio_write(&b->spi_cs, true);
     return done;
 }

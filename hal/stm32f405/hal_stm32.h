@@ -19,7 +19,6 @@ typedef struct {
     stm32_clocks_t clocks;
     stm32_adc_map_t adc;
     float arr_f;          /* TIM1 ARR, float for the duty products */
-    bool power_stage_on;  /* hal_gpio_power_stage_enable's request */
     volatile uint64_t ms; /* SysTick count */
 } stm32_hal_t;
 

@@ -65,7 +65,6 @@ HAL_STM32_INLINE bool hal_gpio_fault_input_active(void)
  * present sets it again at once, so the fault input stays active). */
 HAL_STM32_INLINE void hal_gpio_power_stage_enable(bool enable)
 {
-    stm32_hal.power_stage_on = enable;
     if (!enable) {
         STM32_TIM1->BDTR &= ~TIM_BDTR_MOE;
         STM32_TIM1->SR = ~TIM_SR_BIF;

@@ -10,10 +10,8 @@ bool stm32_iwdg_start(void)
     w->KR = IWDG_KEY_ACCESS;
     w->PR = STM32_IWDG_PRESCALER_32;
     w->RLR = STM32_IWDG_RELOAD;
-    bool latched = false;
-    for (uint32_t k = 0u; k < IWDG_WAIT_LOOPS && !latched; ++k) {
-        latched = (w->SR & (IWDG_SR_PVU | IWDG_SR_RVU)) == 0u;
-    }
+    const bool latched =
+        stm32_wait_bits(&w->SR, IWDG_SR_PVU | IWDG_SR_RVU, 0u, IWDG_WAIT_LOOPS);
     w->KR = IWDG_KEY_RELOAD;
     return latched;
 }

@@ -14,6 +14,7 @@
 #ifndef STM32_REGS_H
 #define STM32_REGS_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #define STM32_REG volatile uint32_t
@@ -448,6 +449,20 @@ static inline void stm32_barrier(void)
 #ifndef STM32_REGS_FAKE
     __asm__ volatile("dsb\n isb" ::: "memory");
 #endif
+}
+
+/* Wait until (*reg & mask) == want, reading it at most `loops` times: the
+ * bounded wait of every status bit the drivers poll. False on the
+ * timeout. */
+static inline bool stm32_wait_bits(const volatile uint32_t *reg, uint32_t mask,
+                                   uint32_t want, uint32_t loops)
+{
+    for (uint32_t k = 0u; k < loops; ++k) {
+        if ((*reg & mask) == want) {
+            return true;
+        }
+    }
+    return false;
 }
 
 /* GPIO ports by letter. */
