@@ -27,7 +27,9 @@ bool stm32_adc_map_for(const stm32_board_t *b, stm32_adc_map_t *map)
         map->current_jdr[k] = len[a - 1u]++;
         measured++;
     }
-    if (measured < 2u || b->vbus_channel > 18u) {
+    /* the scale factors divide by these */
+    if (measured < 2u || b->vbus_channel > 18u ||
+        !(b->current_gain * b->shunt_ohm > 0.0f) || !(b->adc_vref_V > 0.0f)) {
         return false;
     }
     seq[0][len[0]] = b->vbus_channel;

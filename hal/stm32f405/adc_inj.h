@@ -29,7 +29,8 @@ typedef struct {
 } stm32_adc_map_t;
 
 /* The sequences of the board's channels; false if a phase's ADC is not
- * 1..3, two phases share one, or fewer than two currents are measured. */
+ * 1..3, two phases share one, fewer than two currents are measured, or
+ * the board's gain x shunt or ADC reference is not positive. */
 bool stm32_adc_map_for(const stm32_board_t *b, stm32_adc_map_t *map);
 
 /* Configure the three ADCs (after stm32_adc_map_for), the analog pins and

@@ -10,6 +10,9 @@
 
 void stm32_console_init(const stm32_board_t *b, uint32_t pclk1_hz)
 {
+    if (b->console_baud == 0u) {
+        return; /* no console: the USART stays off */
+    }
     STM32_RCC->APB1ENR |= RCC_APB1ENR_USART2EN;
     stm32_gpio_setup(&b->console_tx, GPIO_MODE_AF, STM32_PULL_UP);
     stm32_usart_t *u = STM32_USART2;

@@ -9,7 +9,8 @@
 #include "board.h"
 #include "clock.h"
 
-/* 8N1 at baud from the APB1 clock pclk1_hz, TX pin per the board. */
+/* 8N1 at baud from the APB1 clock pclk1_hz, TX pin per the board; a
+ * board baud of 0 leaves the console off. */
 void stm32_console_init(const stm32_board_t *b, uint32_t pclk1_hz);
 void stm32_console_puts(const char *s);
 /* Decimal, with a sign. */

@@ -265,6 +265,20 @@ static void test_map_rejections(void **state)
     b = stm32_board;
     b.current_channel[2] = 18u;
     assert_true(stm32_adc_map_for(&b, &m));
+
+    /* the scale factors' divisors: gain x shunt and the reference > 0 */
+    b = stm32_board;
+    b.current_gain = 0.0f;
+    assert_false(stm32_adc_map_for(&b, &m));
+    b = stm32_board;
+    b.shunt_ohm = -0.0005f;
+    assert_false(stm32_adc_map_for(&b, &m));
+    b = stm32_board;
+    b.shunt_ohm = NAN;
+    assert_false(stm32_adc_map_for(&b, &m));
+    b = stm32_board;
+    b.adc_vref_V = 0.0f;
+    assert_false(stm32_adc_map_for(&b, &m));
 }
 
 /* SMPR1/SMPR2 with 15 cycles for exactly the channels listed. */

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "board.h"
+#include "console.h"
 #include "drv8301.h"
 #include "encoder_tim.h"
 #include "gpio_cfg.h"
@@ -341,6 +342,28 @@ static void test_gpio_write_read(void **state)
     assert_false(stm32_gpio_read(&pin));
 }
 
+/* The console (USART2, RM0090 30.6): BRR = f_PCLK / baud (oversampling
+ * by 16, 12.4 fixed point, rounded), CR1 UE (bit 13) and TE (bit 3),
+ * RCC APB1ENR USART2EN (bit 17); a board baud of 0 leaves it all
+ * untouched. */
+static void test_console_init(void **state)
+{
+    (void)state;
+    stm32_fake_reset();
+    stm32_console_init(&stm32_board, 42000000u);
+    assert_int_equal(stm32_fake_usart2.BRR, 365u); /* 42e6 / 115200 = 364.6 */
+    assert_int_equal(stm32_fake_usart2.CR1, (1u << 13) | (1u << 3));
+    assert_true((stm32_fake_rcc.APB1ENR & (1u << 17)) != 0u);
+
+    stm32_fake_reset();
+    stm32_board_t b = stm32_board;
+    b.console_baud = 0u;
+    stm32_console_init(&b, 42000000u);
+    assert_int_equal(stm32_fake_usart2.BRR, 0u);
+    assert_int_equal(stm32_fake_usart2.CR1, 0u);
+    assert_int_equal(stm32_fake_rcc.APB1ENR, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -348,6 +371,7 @@ int main(void)
         cmocka_unit_test(test_drv8301_frame), cmocka_unit_test(test_iwdg_start),
         cmocka_unit_test(test_iwdg_busy),     cmocka_unit_test(test_stack_guard),
         cmocka_unit_test(test_gpio_setup),    cmocka_unit_test(test_gpio_write_read),
+        cmocka_unit_test(test_console_init),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
