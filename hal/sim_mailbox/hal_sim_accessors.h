@@ -12,19 +12,27 @@
 #ifndef HAL_SIM_ACCESSORS_H
 #define HAL_SIM_ACCESSORS_H
 
-#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "hal/pwm_duty.h"
 #include "hal_sim_mailbox.h"
 
 #if !defined(HAL_SIM_ACCESSOR) || !defined(HAL_SIM_MAILBOX)
 #error "define HAL_SIM_ACCESSOR and HAL_SIM_MAILBOX before this header"
 #endif
 
+/* Field by field, as registers are read: the compiler keeps only the
+ * fields the caller uses (a whole-struct copy goes through memory). */
 HAL_SIM_ACCESSOR void hal_adc_read(hal_adc_sample_t *out)
 {
-    *out = HAL_SIM_MAILBOX->adc;
+    const hal_adc_sample_t *a = &HAL_SIM_MAILBOX->adc;
+    for (unsigned k = 0u; k < 3u; ++k) {
+        out->i_abc_A[k] = a->i_abc_A[k];
+    }
+    out->v_dc_V = a->v_dc_V;
+    out->temp_degC = a->temp_degC;
+    out->temp_valid = a->temp_valid;
 }
 
 HAL_SIM_ACCESSOR uint32_t hal_encoder_count(void)
@@ -47,26 +55,14 @@ HAL_SIM_ACCESSOR void hal_gpio_debug_pin_set(bool level)
     HAL_SIM_MAILBOX->debug_pin = level;
 }
 
-/* A duty outside [0, 1]: the nearer bound; NaN: 0.5 (zero voltage). */
-static inline float hal_sim_duty_saturated(float d)
-{
-    if (isnan(d)) {
-        return 0.5f;
-    }
-    return (d < 0.0f) ? 0.0f : 1.0f;
-}
-
-/* The compare registers saturate: a duty outside [0, 1] is clamped and a
- * NaN gives 0.5 (zero voltage), whatever the firmware computed (the
- * contract: protect the hardware). A duty within [0, 1] (both comparisons
- * false for NaN) passes as it is. */
+/* The compare registers saturate (hal/pwm_duty.h): whatever the firmware
+ * computed, a duty in [0, 1] (the contract: protect the hardware). */
 HAL_SIM_ACCESSOR void hal_pwm_set_duties(const float duty_abc[3])
 {
     hal_sim_mailbox_t *m = HAL_SIM_MAILBOX;
+#pragma GCC unroll 3
     for (unsigned k = 0u; k < 3u; ++k) {
-        const float d = duty_abc[k];
-        m->duty_abc[k] =
-            (d >= 0.0f && d <= 1.0f) ? d : hal_sim_duty_saturated(d);
+        m->duty_abc[k] = hal_duty_saturate_f32(duty_abc[k]);
     }
 }
 

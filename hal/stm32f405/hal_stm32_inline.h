@@ -80,6 +80,7 @@ HAL_STM32_INLINE void hal_pwm_set_duties(const float duty_abc[3])
 {
     const float arr_f = stm32_hal.arr_f;
     stm32_tim_t *t = STM32_TIM1;
+#pragma GCC unroll 3
     for (uint32_t k = 0u; k < 3u; ++k) {
         t->CCR[k] = stm32_pwm_ccr(duty_abc[k], arr_f);
     }

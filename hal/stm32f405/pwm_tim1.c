@@ -1,4 +1,6 @@
 /* TIM1 PWM (pwm_tim1.h). */
+#include <math.h>
+
 #include "pwm_tim1.h"
 
 bool stm32_tim_dtg_for(float dead_time_s, uint32_t tim_clk_hz, uint32_t *dtg,

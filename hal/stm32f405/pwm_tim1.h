@@ -20,10 +20,10 @@
 #ifndef STM32_PWM_TIM1_H
 #define STM32_PWM_TIM1_H
 
-#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "hal/pwm_duty.h"
 #include "regs.h"
 
 typedef struct {
@@ -67,10 +67,7 @@ stm32_pwm_status_t stm32_pwm_tim1_init(const stm32_pwm_cfg_t *cfg,
  * protection). */
 static inline uint32_t stm32_pwm_ccr(float duty, float arr_f)
 {
-    if (!(duty >= 0.0f && duty <= 1.0f)) { /* also NaN */
-        duty = isnan(duty) ? 0.5f : ((duty < 0.0f) ? 0.0f : 1.0f);
-    }
-    return (uint32_t)(duty * arr_f + 0.5f);
+    return (uint32_t)(hal_duty_saturate_f32(duty) * arr_f + 0.5f);
 }
 
 #endif /* STM32_PWM_TIM1_H */
