@@ -9,6 +9,8 @@
 #ifndef MC_APP_DISPATCH_H
 #define MC_APP_DISPATCH_H
 
+#include <math.h>
+
 #include "mc/app.h"
 #include "mc/compiler.h"
 
@@ -131,7 +133,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_dispatch_estimator_start(
     return MC_FAULT_NONFINITE;
 }
 
-/* Fault bits; NONFINITE for an estimator outside the list. */
+/* Fault bits; NONFINITE (and a NaN sine and cosine) for an estimator
+ * outside the list. */
 MC_STATIC_FORCEINLINE uint32_t
 mc_dispatch_estimator_step(mc_app_t *app, const mc_est_input_t *in,
                            mc_telemetry_t *t, mc_est_sincos_t *sc)
@@ -144,6 +147,8 @@ mc_dispatch_estimator_step(mc_app_t *app, const mc_est_input_t *in,
 #undef MC_X_CASE
     case MC_ESTIMATOR_COUNT: break;
     }
+    sc->sin_e = NAN;
+    sc->cos_e = NAN;
     return MC_FAULT_NONFINITE;
 }
 

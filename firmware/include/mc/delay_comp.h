@@ -87,7 +87,13 @@ mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float theta_e_rad,
     }
     const float delta = omega_e_rad_s * dc->advance_s;
     if (!mc_rotate_small_f32(s_e, c_e, delta, s_v, c_v)) {
-        mc_sincos_f32(theta_e_rad + delta, s_v, c_v);
+        /* through locals: the caller's outputs stay in registers on the
+         * common path (their address is not taken) */
+        float s_sum;
+        float c_sum;
+        mc_sincos_f32(theta_e_rad + delta, &s_sum, &c_sum);
+        *s_v = s_sum;
+        *c_v = c_sum;
     }
 }
 

@@ -41,13 +41,13 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_encoder_step(mc_est_encoder_t *est,
     if (mc_encoder_tracker_update_inline_f32(&est->tracker, in->encoder_count,
                                              &e) != MC_OK ||
         e.count_jump) {
-        mc_sincos_f32(t->theta_e_rad, &sc->sin_e, &sc->cos_e);
+        mc_est_sincos_of(t->theta_e_rad, sc);
         return MC_FAULT_ENCODER;
     }
     /* one finiteness test of the sample's estimates (mc/finite.h) */
     if (e.theta_e_rad * 0.0f + e.theta_m_rad * 0.0f + e.omega_m_rad_s * 0.0f !=
         0.0f) {
-        mc_sincos_f32(t->theta_e_rad, &sc->sin_e, &sc->cos_e);
+        mc_est_sincos_of(t->theta_e_rad, sc);
         return MC_FAULT_NONFINITE;
     }
     t->theta_e_rad = e.theta_e_rad;

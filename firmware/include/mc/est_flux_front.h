@@ -79,7 +79,7 @@ MC_STATIC_FORCEINLINE void mc_flux_front_held(const mc_flux_front_t *f,
     t->theta_m_rad = f->theta_m_rad;
     t->omega_m_rad_s = 0.0f;
     t->tau_L_hat_Nm = 0.0f;
-    mc_sincos_f32(in->theta_e_hold_rad, &sc->sin_e, &sc->cos_e);
+    mc_est_sincos_of(in->theta_e_hold_rad, sc);
 }
 
 /* What one running sample of the front end gives the speed estimator. */
@@ -196,7 +196,11 @@ MC_STATIC_FORCEINLINE uint32_t mc_flux_front_finish(
         mc_flux_front_sincos(f, s->rho_sq, sp->theta_e_rad, observer_angle, sc);
         return MC_FAULT_NONE;
     }
-    return mc_flux_front_fault(f, *s, *sp, theta_m, b, t, sc);
+    mc_est_sincos_t sc_fault; /* through a local: see mc_est_sincos_of */
+    const uint32_t faults =
+        mc_flux_front_fault(f, *s, *sp, theta_m, b, t, &sc_fault);
+    *sc = sc_fault;
+    return faults;
 }
 
 #endif /* MC_EST_FLUX_FRONT_H */

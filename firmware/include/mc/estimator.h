@@ -27,6 +27,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/angle.h"
+#include "mc/compiler.h"
 #include "mc/delay_comp.h"
 #include "mc/drive_io.h"
 #include "mc/params.h"
@@ -62,6 +64,20 @@ typedef struct {
 typedef struct {
     float sin_e, cos_e;
 } mc_est_sincos_t;
+
+/* *sc = sin, cos of theta_e_rad by the out-of-line mc_sincos_f32, for a
+ * step's uncommon paths: through locals, so the address of *sc is not
+ * taken and the common path keeps it in registers. Interrupt context:
+ * yes. */
+MC_STATIC_FORCEINLINE void mc_est_sincos_of(float theta_e_rad,
+                                            mc_est_sincos_t *sc)
+{
+    float s;
+    float c;
+    mc_sincos_f32(theta_e_rad, &s, &c);
+    sc->sin_e = s;
+    sc->cos_e = c;
+}
 
 /* Declares the interface above for estimator `name`, after its
  * mc_est_<name>_config_t and mc_est_<name>_t: the parameter table and every
