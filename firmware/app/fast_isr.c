@@ -333,7 +333,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
 
     /* Deadline check: counted; the limit-th consecutive overrun is a
      * fault, PWM off in this ISR. */
-    const uint32_t cycles = hal_cycle_counter() - t_start;
+    const uint32_t cycles = hal_cycles_since(t_start);
     const float cost_s = (float)cycles * app->s_per_cycle;
     app->isr_cost_s = cost_s;
     if (cost_s > app->isr_cost_max_s) {

@@ -30,8 +30,6 @@ __attribute__((used)) const uint32_t qemu_m4_icount_shift =
     QEMU_M4_ICOUNT_SHIFT;
 
 hal_sim_mailbox_t *hal_qemu_mailbox;
-uint32_t hal_qemu_cc_last_raw;
-uint32_t hal_qemu_cc_ticks;
 
 void qemu_m4_counter_init(void)
 {
@@ -39,8 +37,6 @@ void qemu_m4_counter_init(void)
     SYST_RVR = SYST_RELOAD;
     SYST_CVR = 0u; /* any write clears: counting starts at the reload */
     SYST_CSR = SYST_CSR_ENABLE | SYST_CSR_CLKSOURCE_CPU;
-    hal_qemu_cc_last_raw = qemu_m4_systick();
-    hal_qemu_cc_ticks = 0u;
 }
 
 /* ---- Mailbox binding (hal_sim_mailbox.h): one per image ----------------- */

@@ -6,7 +6,7 @@
  * this file instead of declaring those functions. The "registers" are the
  * engine's mailbox (hal/sim_mailbox), reached through one pointer that
  * hal_sim_bind sets before the engine first calls the firmware; the cycle
- * counter is SysTick (qemu_m4.h), extended to 32 bits.
+ * counter is SysTick (qemu_m4.h), 24 bits wide.
  */
 #ifndef HAL_QEMU_INLINE_H
 #define HAL_QEMU_INLINE_H
@@ -21,22 +21,24 @@
 #include "hal_sim_mailbox.h"
 #include "qemu_m4.h"
 
-/* hal_qemu.c: the bound mailbox, and the cycle counter's state (the raw
- * SysTick value at the previous read, the extended count). */
+/* hal_qemu.c: the bound mailbox. */
 extern hal_sim_mailbox_t *hal_qemu_mailbox;
-extern uint32_t hal_qemu_cc_last_raw;
-extern uint32_t hal_qemu_cc_ticks;
 
 #define HAL_SIM_ACCESSOR static inline __attribute__((always_inline))
 #define HAL_SIM_MAILBOX  hal_qemu_mailbox
 #include "hal_sim_accessors.h"
 
+/* SysTick counts down from its 24-bit reload: its complement counts up,
+ * significant in the low 24 bits (hal/time.h). */
 static inline __attribute__((always_inline)) uint32_t hal_cycle_counter(void)
 {
-    const uint32_t raw = qemu_m4_systick();
-    hal_qemu_cc_ticks += qemu_m4_ticks_between(hal_qemu_cc_last_raw, raw);
-    hal_qemu_cc_last_raw = raw;
-    return hal_qemu_cc_ticks;
+    return ~qemu_m4_systick();
+}
+
+static inline __attribute__((always_inline)) uint32_t
+hal_cycles_since(uint32_t start)
+{
+    return (hal_cycle_counter() - start) & 0x00FFFFFFu;
 }
 
 #endif /* HAL_QEMU_INLINE_H */

@@ -12,9 +12,9 @@
  * period. Without -icount SysTick follows host time: the counts are then
  * meaningless (the qemu tests always pass -icount).
  *
- * hal_cycle_counter() (hal/time.h) is this counter extended to 32 bits in
- * software (each call adds the ticks since the previous call: calls must
- * be less than 10.4 M instructions apart, true for the per-period ISR).
+ * hal_cycle_counter() (hal/time.h) is this counter's complement (counting
+ * up, 24 bits significant), hal_cycles_since its difference modulo 2^24:
+ * intervals shorter than 10.4 M instructions, true for an ISR.
  * hal_cycle_counter_hz() reports QEMU_M4_CORE_HZ * 2^N / 40, i.e. the
  * firmware's own ISR-cost measurement reads "instructions / 168 MHz": the
  * cost of the ISR on a 168 MHz Cortex-M4F at one cycle per instruction (a

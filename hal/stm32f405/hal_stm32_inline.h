@@ -110,4 +110,10 @@ HAL_STM32_INLINE uint32_t hal_cycle_counter(void)
     return STM32_DWT->CYCCNT;
 }
 
+/* CYCCNT wraps at 2^32. */
+HAL_STM32_INLINE uint32_t hal_cycles_since(uint32_t start)
+{
+    return hal_cycle_counter() - start;
+}
+
 #endif /* HAL_STM32_INLINE_H */
