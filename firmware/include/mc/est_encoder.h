@@ -53,7 +53,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_encoder_step(mc_est_encoder_t *est,
     t->theta_e_rad = e.theta_e_rad;
     t->theta_m_rad = e.theta_m_rad;
     t->omega_m_rad_s = e.omega_m_rad_s;
-    mc_sincos_inline_f32(e.theta_e_rad, &sc->sin_e, &sc->cos_e);
+    /* finite (tested above) and wrapped to (-pi, pi] by the tracker */
+    mc_sincos_in_range_f32(e.theta_e_rad, &sc->sin_e, &sc->cos_e);
     return MC_FAULT_NONE;
 }
 

@@ -150,7 +150,7 @@ uint32_t mc_flux_front_fault(mc_flux_front_t *f, mc_flux_front_sample_t s,
  * |rho_hat| Phi, rho_sq = |rho_hat|^2 > 0 (the caller has checked it
  * against ratio_min), one square root and one division (measured on the
  * M4: 19 instructions fewer than the polynomial, the same cycles).
- * Otherwise mc_sincos_inline_f32 (a rotation of eta / |eta| by
+ * Otherwise mc_sincos_in_range_f32 (a rotation of eta / |eta| by
  * theta_e - theta_obs measured as many instructions and 40 cycles more).
  * Interrupt context: yes. */
 MC_STATIC_FORCEINLINE void mc_flux_front_sincos(const mc_flux_front_t *f,
@@ -159,7 +159,8 @@ MC_STATIC_FORCEINLINE void mc_flux_front_sincos(const mc_flux_front_t *f,
                                                 mc_est_sincos_t *sc)
 {
     if (!observer_angle) {
-        mc_sincos_inline_f32(theta_e_rad, &sc->sin_e, &sc->cos_e);
+        /* the caller's checked angle, wrapped to (-pi, pi] */
+        mc_sincos_in_range_f32(theta_e_rad, &sc->sin_e, &sc->cos_e);
         return;
     }
     const float inv_eta = f->obs.inv_psi_per_Wb / sqrtf(rho_sq);
