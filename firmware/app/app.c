@@ -13,6 +13,24 @@
  * during every copy: only possible if the reader is starved). */
 #define MC_TLM_READ_TRIES 4u
 
+/* The largest cycle count c whose cost (float)c * s_per_cycle, as the ISR
+ * computes it, is at most period_s: the ISR's deadline test compares
+ * counts (cost > period exactly when count > this; the cost is
+ * non-decreasing in the count). s_per_cycle > 0, period_s > 0 and
+ * finite (validated timing). */
+static uint32_t deadline_cycles(float period_s, float s_per_cycle)
+{
+    const float estimate = period_s / s_per_cycle;
+    uint32_t c = (estimate < 4.0e9f) ? (uint32_t)estimate : 4000000000u;
+    while (c > 0u && (float)c * s_per_cycle > period_s) {
+        --c;
+    }
+    while (c < 4000000000u && (float)(c + 1u) * s_per_cycle <= period_s) {
+        ++c;
+    }
+    return c;
+}
+
 mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
 {
     mc_status_t st = mc_config_validate(cfg);
@@ -43,6 +61,7 @@ mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
         return MC_ERR_PARAM;
     }
     app->s_per_cycle = 1.0f / (float)hal_cycle_counter_hz();
+    app->period_cycles = deadline_cycles(tm.Ts_s, app->s_per_cycle);
     app->state = MC_STATE_IDLE;
     app->enable_armed = true;
     app->cmd_buf[0].mode = MC_MODE_CURRENT;

@@ -335,12 +335,12 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
      * fault, PWM off in this ISR. */
     const uint32_t cycles = hal_cycles_since(t_start);
     const float cost_s = (float)cycles * app->s_per_cycle;
-    app->isr_cost_s = cost_s;
-    if (cost_s > app->isr_cost_max_s) {
+    if (cycles > app->isr_cost_max_cycles) {
+        app->isr_cost_max_cycles = cycles;
         app->isr_cost_max_s = cost_s;
         t->isr_cost_max_s = cost_s;
     }
-    if (cost_s > app->timing.Ts_s) {
+    if (cycles > app->period_cycles) { /* cost_s > Ts (app.c) */
         app->isr_overruns++;
         t->isr_overruns = app->isr_overruns;
         app->overrun_streak++;

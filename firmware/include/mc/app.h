@@ -112,13 +112,14 @@ typedef struct {
                             did not continue (mc_app_fast_isr) */
     float i_offset_A[3];
     /* deadline */
-    float s_per_cycle; /* 1 / hal_cycle_counter_hz() */
+    float s_per_cycle;      /* 1 / hal_cycle_counter_hz() */
+    uint32_t period_cycles; /* the most cycles within Ts (the deadline) */
     uint32_t isr_count;
-    float isr_cost_s; /* cost of the latest complete ISR */
-    float isr_cost_max_s;
-    uint32_t isr_overruns;   /* total */
-    uint32_t overrun_streak; /* consecutive, up to the latest ISR */
-    mc_timing_t timing;      /* from the HAL's realised PWM */
+    uint32_t isr_cost_max_cycles; /* the costliest ISR since init */
+    float isr_cost_max_s;         /* its cost */
+    uint32_t isr_overruns;        /* total */
+    uint32_t overrun_streak;      /* consecutive, up to the latest ISR */
+    mc_timing_t timing;           /* from the HAL's realised PWM */
     /* telemetry (sequence counter: odd while the ISR writes) */
     volatile uint32_t tlm_seq;
     mc_telemetry_t tlm;
