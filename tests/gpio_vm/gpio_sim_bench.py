@@ -123,9 +123,12 @@ def sto_pulse(sim, line, ms):
     fd = os.open(sim.attr(line, "value"), os.O_RDONLY)
 
     def sample():
-        return (time.monotonic_ns(), int(os.pread(fd, 8, 0)))
+        # the value holds at some instant between the two clock reads
+        t0 = time.monotonic_ns()
+        value = int(os.pread(fd, 8, 0))
+        return (t0, value, time.monotonic_ns())
 
-    samples = [sample()]  # (monotonic ns, value); low: the tool is not started yet
+    samples = [sample()]  # (ns before, value, ns after); low: the tool is not started yet
     proc = start(sim.tool("sto", line, "pulse", ms))
     deadline = time.monotonic() + TOOL_TIMEOUT_S
     while proc.poll() is None and time.monotonic() < deadline:
@@ -141,18 +144,20 @@ def sto_pulse(sim, line, ms):
     except (IndexError, ValueError):
         check(False, f"{name}: no width in {out.strip()!r}")
         return
-    highs = [k for k, (_, v) in enumerate(samples) if v == 1]
+    highs = [k for k, (_, v, _) in enumerate(samples) if v == 1]
     if not check(len(highs) > 0 and samples[0][1] == 0 and samples[-1][1] == 0,
                  f"{name}: sampled low, high ({len(highs)} of {len(samples)} samples), low"):
         return
     first, last = highs[0], highs[-1]
     check(last - first + 1 == len(highs), f"{name}: one high run in the samples")
-    gap = max(b[0] - a[0] for a, b in zip(samples[first - 1:], samples[first:last + 2])) / 1e6
+    gap = max(b[2] - a[0] for a, b in zip(samples[first - 1:], samples[first:last + 2])) / 1e6
     # the tool's width runs from after its request to before its release,
-    # both inside the high time H; the samples around the run bound H:
-    # t[last] - t[first] <= H <= t[last + 1] - t[first - 1]
-    h_lo = (samples[last][0] - samples[first][0]) / 1e6
-    h_hi = (samples[last + 1][0] - samples[first - 1][0]) / 1e6
+    # both inside the high time H = fall - rise; a sample's value held at
+    # an instant between its clock reads (before t0, after t1), so
+    # t0[first - 1] < rise <= t1[first] and t0[last] <= fall < t1[last + 1]:
+    # t0[last] - t1[first] <= H <= t1[last + 1] - t0[first - 1]
+    h_lo = (samples[last][0] - samples[first][2]) / 1e6
+    h_hi = (samples[last + 1][2] - samples[first - 1][0]) / 1e6
     check(width_ms >= ms, f"{name}: width {width_ms:.3f} ms >= {ms} ms")
     check(width_ms <= h_hi,
           f"{name}: width {width_ms:.3f} ms <= the sampled high time's bound {h_hi:.3f} ms")
