@@ -152,6 +152,8 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
     ctl->count_rad_s =
         counts ? 6.2831853f / ((float)cpr * (float)c->count_periods * tm->Ts_s)
                : 0.0f;
+    ctl->rad_per_count = counts ? 6.2831853f / (float)cpr : 0.0f;
+    ctl->window_s = counts ? (float)c->count_periods * tm->Ts_s : 0.0f;
     ctl->count_next = 0u;
     ctl->count_valid = 0u;
     ctl->count_sum = 0;

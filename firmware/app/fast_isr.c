@@ -263,6 +263,9 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     mc_frame_t fr; /* every field set before use (no zeroing cost) */
     fr.in.encoder_count = hal_encoder_count();
     t->encoder_count = fr.in.encoder_count;
+    float edge_age_s = -1.0f; /* -1 if the HAL keeps no edge times */
+    (void)hal_encoder_edge_age(&edge_age_s);
+    t->encoder_edge_age_s = edge_age_s;
     fr.in.v_applied = &app->v_applied;
     fr.in.running = steady || (app->state == MC_STATE_RUN);
     fr.in.theta_e_hold_rad = steady ? 0.0f /* unused in RUN */

@@ -40,6 +40,16 @@ HAL_SIM_ACCESSOR uint32_t hal_encoder_count(void)
     return HAL_SIM_MAILBOX->encoder_count;
 }
 
+HAL_SIM_ACCESSOR bool hal_encoder_edge_age(float *age_s)
+{
+    const hal_sim_mailbox_t *m = HAL_SIM_MAILBOX;
+    if (!m->encoder_edge_capture) {
+        return false;
+    }
+    *age_s = m->encoder_edge_age_s;
+    return true;
+}
+
 HAL_SIM_ACCESSOR bool hal_gpio_fault_input_active(void)
 {
     return HAL_SIM_MAILBOX->fault_input_active;

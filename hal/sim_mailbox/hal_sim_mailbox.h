@@ -49,6 +49,8 @@ typedef struct {
     hal_adc_sample_t adc;
     uint32_t encoder_cpr;
     uint32_t encoder_count;
+    bool encoder_edge_capture; /* the engine reports edge ages */
+    float encoder_edge_age_s;  /* hal_encoder_edge_age */
     bool encoder_index_seen;
     uint32_t encoder_count_at_index;
     bool fault_input_active;

@@ -53,6 +53,14 @@ HAL_STM32_INLINE uint32_t hal_encoder_count(void)
     return STM32_TIM3->CNT;
 }
 
+/* TIM3's encoder mode keeps no edge times (a capture channel on the
+ * inputs would: not wired in this port). */
+HAL_STM32_INLINE bool hal_encoder_edge_age(float *age_s)
+{
+    (void)age_s;
+    return false;
+}
+
 /* The gate driver's nFAULT (low), or a break that cleared MOE. */
 HAL_STM32_INLINE bool hal_gpio_fault_input_active(void)
 {

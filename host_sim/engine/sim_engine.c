@@ -91,6 +91,7 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
     e->plant_faults = e->plant_normal;
     hal_sim_mailbox_reset(&e->mailbox);
     e->mailbox.encoder_cpr = cpr;
+    e->mailbox.encoder_edge_capture = cpr > 0u; /* the plant's edge ages */
     e->mailbox.pwm_f_Hz = (float)f_plant;
     e->mailbox.pwm_delay_periods =
         half ? SIM_ENGINE_DELAY_HALF_PERIOD : SIM_ENGINE_DELAY_NEXT_PERIOD;
@@ -317,8 +318,11 @@ static uint32_t apply_injections(sim_engine_t *e, plant_measurement_t *m, bool *
         case SIM_INJECT_ENCODER_FROZEN:
             if (!st->started) {
                 st->count = m->encoder_count;
+                st->t_edge_s = m->t_s - m->encoder_edge_age_s;
             }
             m->encoder_count = st->count;
+            /* no edge since: its age grows */
+            m->encoder_edge_age_s = fmin(m->t_s - st->t_edge_s, PLANT_ENCODER_EDGE_AGE_MAX_S);
             break;
         case SIM_INJECT_ENCODER_COUNT_LOSS:
             m->encoder_count = lose_counts(inj, st, m->encoder_count, cpr);
@@ -347,6 +351,7 @@ static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m, bo
     mb->adc.v_dc_V = (float)m->v_dc_V;
     mb->adc.temp_valid = false;
     mb->encoder_count = m->encoder_count;
+    mb->encoder_edge_age_s = (float)m->encoder_edge_age_s;
     if (m->encoder_index) {
         /* The plant's index mark is at count 0 (see plant.h). */
         mb->encoder_index_seen = true;

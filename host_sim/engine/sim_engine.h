@@ -109,7 +109,11 @@ typedef enum {
                                        negative angles slip backwards */
     SIM_INJECT_ENCODER_FROZEN,      /* count := the count at the first active
                                        sample (a seized encoder, a cut cable
-                                       with held inputs) */
+                                       with held inputs); the edge age
+                                       (hal_encoder_edge_age) grows from the
+                                       last edge before it. SLIP and
+                                       COUNT_LOSS keep the true motion's
+                                       edge age */
     SIM_INJECT_ENCODER_COUNT_LOSS,  /* lost counts: from the first active
                                        sample the count advances by
                                        (1 - lost_fraction) of each increment
@@ -162,6 +166,7 @@ typedef struct {
     uint32_t count_in;       /* ENCODER_COUNT_LOSS: the count it received at
                                 the previous sample */
     double remainder_counts; /* ENCODER_COUNT_LOSS: [0, 1) */
+    double t_edge_s;         /* ENCODER_FROZEN: the last edge before it */
 } sim_injection_state_t;
 
 /* Private: the plant-side faults as the engine last set them. */

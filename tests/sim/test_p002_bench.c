@@ -46,10 +46,10 @@
 /* Which criteria hold on the bench today (1: asserted). */
 #define P002_ASSERT_OVERSHOOT 1
 #define P002_ASSERT_OFFSET    1
-#define P002_ASSERT_FLUCT     0
+#define P002_ASSERT_FLUCT     1
 #define P002_ASSERT_SETTLING  0
 #define P002_ASSERT_LINE200   0
-#define P002_ASSERT_LINE267   0
+#define P002_ASSERT_LINE267   1
 
 typedef struct {
     double overshoot_percent, settling_ms, offset_rpm, fluct_rpm;

@@ -31,7 +31,11 @@
  * (count_periods N > 0, default 4) the law gets the count difference over
  * the last N periods, 2 pi dc / (cpr N Ts): the mean speed over them, N / 2
  * periods late, quantised to 2 pi / (cpr N Ts) (1.6 rad/s with 10000
- * counts, 10 kHz, N = 4), with no other filter. Not the encoder PLL's
+ * counts, 10 kHz, N = 4), with no other filter; where the HAL keeps the
+ * edges' times (hal_encoder_edge_age) the counts over the time between
+ * the last edges before the window's first and last samples (M/T: the
+ * same mean speed, as late, without the quantisation;
+ * mc_ctl_cdobc_count_speed). Not the encoder PLL's
  * estimate: that is omega low-passed by w_pll^2 / (s + w_pll)^2 (lag 2 /
  * w_pll, 20 periods at 1000 rad/s and 10 kHz; measured -96 degrees and gain
  * 0.39 at 200 Hz), which the observer does not model. In the unit tests'
@@ -135,10 +139,14 @@ typedef struct {
     int32_t half_cpr;    /* cpr / 2 */
     uint32_t n_count;    /* periods of the count speed */
     float count_rad_s;   /* 2 pi / (cpr n_count Ts): one count */
+    float rad_per_count; /* 2 pi / cpr */
+    float window_s;      /* n_count Ts */
     uint32_t count_last; /* count of the last step */
     /* the last n_count steps of the count, each wrapped to [-cpr/2,
-     * cpr/2), in a ring (next: the oldest), and their sum */
+     * cpr/2), in a ring (next: the oldest), and their sum; beside each
+     * step the edge age of its sample (t->encoder_edge_age_s) */
     int32_t count_steps[MC_CTL_CDOBC_COUNT_MAX];
+    float edge_ages_s[MC_CTL_CDOBC_COUNT_MAX];
     uint32_t count_next;
     uint32_t count_valid; /* steps in the ring since the start */
     int32_t count_sum;
@@ -151,6 +159,24 @@ MC_CONTROLLER_INTERFACE(cdobc);
  * keeps the coefficients in use. Interrupt context: yes, but unbounded
  * against the period on an MCU (see above). */
 void mc_ctl_cdobc_redesign(mc_ctl_cdobc_t *ctl, float omega_ref_rad_s);
+
+/* The speed of the count's last n_count steps (count_sum): with the
+ * edge ages of their first and last samples (both >= 0: the HAL keeps
+ * edge times) the counts over the time between the edges before those
+ * samples (M/T: n_count Ts + age_old - age, > 0 whenever the count
+ * moved), else over n_count Ts, quantised to count_rad_s. No motion
+ * over the window is 0 either way. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_ctl_cdobc_count_speed(const mc_ctl_cdobc_t *ctl,
+                                                     float age_old_s,
+                                                     float age_s)
+{
+    const float dt_s = ctl->window_s + age_old_s - age_s;
+    if (ctl->count_sum != 0 && age_old_s >= 0.0f && age_s >= 0.0f &&
+        dt_s > 0.0f) {
+        return (float)ctl->count_sum * ctl->rad_per_count / dt_s;
+    }
+    return (float)ctl->count_sum * ctl->count_rad_s;
+}
 
 /* Speed / position mode: v_d, v_q into *t. Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
@@ -191,12 +217,15 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
             const uint32_t i = ctl->count_next;
             ctl->count_sum += s - ctl->count_steps[i];
             ctl->count_steps[i] = s;
+            const float age_old_s = ctl->edge_ages_s[i]; /* n_count ago */
+            const float age_s = t->encoder_edge_age_s;
+            ctl->edge_ages_s[i] = age_s;
             ctl->count_next = (i + 1u == n) ? 0u : i + 1u;
             if (ctl->count_valid < n) {
                 ctl->count_valid++;
             }
             if (ctl->count_valid == n) {
-                w_obs = (float)ctl->count_sum * ctl->count_rad_s;
+                w_obs = mc_ctl_cdobc_count_speed(ctl, age_old_s, age_s);
             }
         }
         ctl->count_last = c;

@@ -58,16 +58,18 @@ typedef struct {
     float v_alpha_V, v_beta_V; /* voltage the duties apply (after the
                                   modulator's limit; 0 with PWM off) */
     bool v_saturated;
-    bool current_limited;   /* the current-limit loop corrected the voltage */
-    float theta_e_rad;      /* angle used by the controller */
-    float theta_m_rad;      /* multi-turn mechanical position */
-    uint32_t encoder_count; /* hal_encoder_count() of this sample (a
-                               controller that needs the integer count) */
-    float omega_m_rad_s;    /* speed estimate */
-    float tau_L_hat_Nm;     /* load-torque estimate (0 from an
-                               estimator without one) */
-    float flux_ratio_sq;    /* |rho_hat|^2 of the flux observer
-                               (sensorless; 1 when converged) */
+    bool current_limited;     /* the current-limit loop corrected the voltage */
+    float theta_e_rad;        /* angle used by the controller */
+    float theta_m_rad;        /* multi-turn mechanical position */
+    uint32_t encoder_count;   /* hal_encoder_count() of this sample (a
+                                 controller that needs the integer count) */
+    float encoder_edge_age_s; /* hal_encoder_edge_age of this sample, s;
+                                 -1: the HAL keeps no edge times */
+    float omega_m_rad_s;      /* speed estimate */
+    float tau_L_hat_Nm;       /* load-torque estimate (0 from an
+                                 estimator without one) */
+    float flux_ratio_sq;      /* |rho_hat|^2 of the flux observer
+                                 (sensorless; 1 when converged) */
     float omega_m_ref_rad_s;
     float theta_m_ref_rad;
     float duty_abc[3]; /* written to the HAL (next period) */

@@ -67,6 +67,15 @@ uint32_t hal_encoder_count(void)
     return g_hal.encoder_count;
 }
 
+bool hal_encoder_edge_age(float *age_s)
+{
+    if (!g_hal.encoder_edge_capture) {
+        return false;
+    }
+    *age_s = g_hal.encoder_edge_age_s;
+    return true;
+}
+
 bool hal_encoder_index(uint32_t *count_at_index)
 {
     if (count_at_index != 0) {

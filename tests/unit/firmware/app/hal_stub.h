@@ -17,6 +17,8 @@ typedef struct {
     hal_adc_sample_t adc;
     uint32_t encoder_cpr;
     uint32_t encoder_count;
+    bool encoder_edge_capture; /* hal_encoder_edge_age reports ... */
+    float encoder_edge_age_s;  /* ... this */
     bool fault_input;
     uint32_t cycle_now;           /* hal_cycle_counter() returns this ... */
     uint32_t cycle_step;          /* ... and then adds this */

@@ -176,6 +176,63 @@ static void test_encoder_index(void **state)
     assert_int_equal(want, 2);
 }
 
+/* The edge age at each sample, spinning freely at constant speed both
+ * ways: t - age is the time of the count's last edge, so it stays put
+ * while the count does, lies between the two samples when the count
+ * changes, and the counts over the time between the first and the last
+ * edge (M/T) are the speed (exact at constant speed); at rest the age is
+ * the maximum. */
+static void test_encoder_edge_age(void **state)
+{
+    (void)state;
+    const double speeds[] = { 25.0, -25.0, 0.0 };
+    for (size_t i = 0; i < sizeof speeds / sizeof speeds[0]; ++i) {
+        plant_config_t c;
+        plant_config_default(&c);
+        c.sensors.encoder = (plant_encoder_t){ .lines = 500u, .offset_rad = 1.0 };
+        c.omega_m0_rad_s = speeds[i];
+        plant_t p;
+        assert_int_equal(plant_init(&p, &c), PLANT_OK);
+        const double duty[3] = { 0.5, 0.5, 0.5 };
+        plant_measurement_t m;
+        plant_sample(&p, &m);
+        if (speeds[i] == 0.0) {
+            assert_true(m.encoder_edge_age_s == PLANT_ENCODER_EDGE_AGE_MAX_S);
+            continue;
+        }
+        double t_prev = m.t_s;
+        double edge_prev = m.t_s - m.encoder_edge_age_s;
+        uint32_t count_prev = m.encoder_count;
+        double edge_first = -1.0;
+        double edge_last = 0.0;
+        int64_t counts = 0; /* from the first edge on */
+        for (int k = 0; k < 2000; ++k) {
+            plant_advance(&p, duty, false);
+            plant_sample(&p, &m);
+            const double edge = m.t_s - m.encoder_edge_age_s;
+            assert_true(m.encoder_edge_age_s >= 0.0);
+            if (m.encoder_count == count_prev) {
+                assert_near(edge, edge_prev, 1e-12);
+            } else {
+                assert_true(edge > t_prev - 1e-12 && edge <= m.t_s + 1e-12);
+                int64_t step = (int64_t)m.encoder_count - (int64_t)count_prev;
+                step += (step > 1000) ? -2000 : ((step < -1000) ? 2000 : 0);
+                if (edge_first < 0.0) {
+                    edge_first = edge;
+                } else {
+                    counts += step;
+                }
+                edge_last = edge;
+            }
+            t_prev = m.t_s;
+            edge_prev = edge;
+            count_prev = m.encoder_count;
+        }
+        const double w_mt = (double)counts * MC_TEST_TWO_PI / 2000.0 / (edge_last - edge_first);
+        assert_near(w_mt, speeds[i], 1e-6 * fabs(speeds[i]));
+    }
+}
+
 /* The encoder where the turn count does not fit an int64_t: a huge load
  * torque (9e24 N m, the reported case) drives the plant state to NaN in
  * the first period, and an angle of 1e30 rad is 1.6e29 turns. Converting
@@ -264,6 +321,7 @@ int main(void)
         cmocka_unit_test(test_vdc_sensing),
         cmocka_unit_test(test_encoder_counts),
         cmocka_unit_test(test_encoder_index),
+        cmocka_unit_test(test_encoder_edge_age),
         cmocka_unit_test(test_encoder_at_huge_angles),
         cmocka_unit_test(test_determinism_per_seed),
     };
