@@ -42,11 +42,7 @@ HAL_SIM_ACCESSOR uint32_t hal_encoder_count(void)
 
 HAL_SIM_ACCESSOR bool hal_encoder_edge_age(float *age_s)
 {
-    const hal_sim_mailbox_t *m = HAL_SIM_MAILBOX;
-    if (!m->encoder_edge_capture) {
-        return false;
-    }
-    *age_s = m->encoder_edge_age_s;
+    *age_s = HAL_SIM_MAILBOX->encoder_edge_age_s;
     return true;
 }
 

@@ -22,6 +22,7 @@
 void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox)
 {
     *mailbox = (hal_sim_mailbox_t){
+        .encoder_edge_age_s = HAL_ENCODER_EDGE_AGE_MAX_S, /* no edge yet */
         .duty_abc = { 0.5f, 0.5f, 0.5f },
     };
 }

@@ -49,8 +49,8 @@ typedef struct {
     hal_adc_sample_t adc;
     uint32_t encoder_cpr;
     uint32_t encoder_count;
-    bool encoder_edge_capture; /* the engine reports edge ages */
-    float encoder_edge_age_s;  /* hal_encoder_edge_age */
+    float encoder_edge_age_s; /* hal_encoder_edge_age: the simulator
+                                 keeps edge times (none: the maximum) */
     bool encoder_index_seen;
     uint32_t encoder_count_at_index;
     bool fault_input_active;
@@ -80,7 +80,8 @@ void hal_sim_bind(hal_sim_mailbox_t *mailbox);
  * NULL). */
 hal_sim_mailbox_t *hal_sim_bound(void);
 
-/* Zero a mailbox: duties 0.5, everything disabled, no fault input. */
+/* Zero a mailbox: duties 0.5, everything disabled, no fault input, no
+ * encoder edge yet. */
 void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox);
 
 /* Queue a frame for the firmware (engine side). false, counted in

@@ -91,7 +91,6 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
     e->plant_faults = e->plant_normal;
     hal_sim_mailbox_reset(&e->mailbox);
     e->mailbox.encoder_cpr = cpr;
-    e->mailbox.encoder_edge_capture = cpr > 0u; /* the plant's edge ages */
     e->mailbox.pwm_f_Hz = (float)f_plant;
     e->mailbox.pwm_delay_periods =
         half ? SIM_ENGINE_DELAY_HALF_PERIOD : SIM_ENGINE_DELAY_NEXT_PERIOD;
