@@ -51,10 +51,11 @@ uint32_t mc_app_align(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
     mc_align_state_t st = MC_ALIGN_BUSY;
     uint32_t faults = align_references(app, fr, t, &st);
     if (faults == MC_FAULT_NONE) {
-        faults = mc_drive_current_step(&app->drive, t);
+        faults = mc_drive_bus_fault(t->v_dc_V);
     }
     if (faults == MC_FAULT_NONE) {
-        faults = mc_app_modulate(app, fr, t);
+        mc_drive_current_step(&app->drive, t);
+        mc_app_modulate(app, fr, t);
     }
     faults |= mc_app_check_outputs(t);
     if (faults == MC_FAULT_NONE && st == MC_ALIGN_DONE) {

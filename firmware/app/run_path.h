@@ -19,11 +19,12 @@
 
 /* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
  * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit,
- * the dead-time compensation. Also fills the alpha/beta voltage the
- * inverter will apply. */
-MC_STATIC_FORCEINLINE uint32_t mc_app_modulate(mc_app_t *app,
-                                               const mc_frame_t *fr,
-                                               mc_telemetry_t *t)
+ * the dead-time compensation, on the bus t->v_dc_V the caller has checked
+ * (mc_drive_bus_fault). Also fills the alpha/beta voltage the inverter
+ * will apply. The modulator runs unchecked: a non-finite voltage gives
+ * non-finite duties (mc_app_check_outputs). */
+MC_STATIC_FORCEINLINE void mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
+                                           mc_telemetry_t *t)
 {
     float s;
     float c;
@@ -33,11 +34,6 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_modulate(mc_app_t *app,
     float v_al;
     float v_be;
     mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
-    /* The bus here, the duties in check_outputs: the modulator itself runs
-     * unchecked (a non-finite voltage gives non-finite duties). */
-    if (!mc_positive_normal_f32(t->v_dc_V)) {
-        return mc_drive_voltage_fault(t->v_dc_V);
-    }
     mc_svpwm_out_f32_t pwm;
     mc_svpwm_unchecked_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm);
     t->v_alpha_V = pwm.v_alpha_V;
@@ -50,16 +46,18 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_modulate(mc_app_t *app,
     const bool limited = mc_deadtime_comp_apply_f32(
         &app->drive.deadtime, t->i_abc_A, t->v_dc_V, t->duty_abc);
     t->v_saturated = t->v_saturated || pwm.overmodulated || limited;
-    return MC_FAULT_NONE;
 }
 
-/* Non-finite anywhere in references or outputs is a fault. */
+/* Non-finite anywhere in references or outputs is a fault. (The measured
+ * i_d, i_q need no test: the Park transform of a sample that passed the
+ * sample check, |i| <= i_trip, with an estimator's finite sine and
+ * cosine, mc/estimator.h; a sample or estimate that failed stops RUN
+ * and ALIGN before this.) */
 MC_STATIC_FORCEINLINE uint32_t mc_app_check_outputs(const mc_telemetry_t *t)
 {
-    const float x[] = { t->i_d_ref_A,  t->i_q_ref_A,   t->omega_m_ref_rad_s,
-                        t->i_d_A,      t->i_q_A,       t->v_d_V,
-                        t->v_q_V,      t->duty_abc[0], t->duty_abc[1],
-                        t->duty_abc[2] };
+    const float x[] = { t->i_d_ref_A,   t->i_q_ref_A,  t->omega_m_ref_rad_s,
+                        t->v_d_V,       t->v_q_V,      t->duty_abc[0],
+                        t->duty_abc[1], t->duty_abc[2] };
     return mc_all_finite_f32(x, (uint32_t)(sizeof x / sizeof x[0]))
                ? MC_FAULT_NONE
                : MC_FAULT_NONFINITE;
@@ -86,14 +84,18 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
                                           mc_telemetry_t *t)
 {
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
-    uint32_t faults = mc_dispatch_controller_step(app, cmd, t);
-    /* Every controller's voltage under the measured-current limit. */
-    t->current_limited = mc_current_limit_step_f32(
-        &app->drive.limit, t->i_d_A, t->i_q_A, &t->v_d_V, &t->v_q_V);
-    app->drive.v_d_last_V = t->v_d_V;
-    app->drive.v_q_last_V = t->v_q_V;
+    /* the bus once for every voltage computation of the sample */
+    uint32_t faults = mc_drive_bus_fault(t->v_dc_V);
     if (faults == MC_FAULT_NONE) {
-        faults = mc_app_modulate(app, fr, t);
+        faults = mc_dispatch_controller_step(app, cmd, t);
+        /* Every controller's voltage under the measured-current limit. */
+        t->current_limited = mc_current_limit_step_f32(
+            &app->drive.limit, t->i_d_A, t->i_q_A, &t->v_d_V, &t->v_q_V);
+        app->drive.v_d_last_V = t->v_d_V;
+        app->drive.v_q_last_V = t->v_q_V;
+        if (faults == MC_FAULT_NONE) {
+            mc_app_modulate(app, fr, t);
+        }
     }
     faults |= mc_app_check_outputs(t);
     if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {

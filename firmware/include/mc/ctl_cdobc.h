@@ -295,7 +295,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_step(mc_ctl_cdobc_t *ctl,
         mc_outer_loop_f32_t *o = &d->outer;
         mc_outer_loop_current_f32(o, cmd);
         mc_outer_loop_publish_f32(o, t);
-        return mc_drive_current_step(d, t);
+        mc_drive_current_step(d, t);
+        return MC_FAULT_NONE;
     }
     return mc_ctl_cdobc_voltages(ctl, d, cmd, t);
 }

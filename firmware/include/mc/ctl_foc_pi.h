@@ -46,7 +46,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_foc_pi_step(mc_ctl_foc_pi_t *ctl,
                                               t->omega_m_rad_s);
     }
     mc_outer_loop_publish_f32(o, t);
-    return mc_drive_current_step(d, t);
+    mc_drive_current_step(d, t);
+    return MC_FAULT_NONE;
 }
 
 #endif /* MC_CTL_FOC_PI_H */

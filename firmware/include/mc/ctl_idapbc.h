@@ -96,7 +96,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_step(mc_ctl_idapbc_t *ctl,
     if (cmd->mode == MC_MODE_CURRENT) {
         mc_outer_loop_current_f32(o, cmd);
         mc_outer_loop_publish_f32(o, t);
-        return mc_drive_current_step(d, t);
+        mc_drive_current_step(d, t);
+        return MC_FAULT_NONE;
     }
     /* The speed reference enters (11) directly. */
     (void)mc_outer_loop_speed_f32(o, cmd, t);

@@ -51,27 +51,32 @@ MC_STATIC_FORCEINLINE uint32_t mc_drive_voltage_fault(float v_dc_V)
     return (v_dc_V <= 0.0f) ? MC_FAULT_DC_UNDERVOLTAGE : MC_FAULT_NONFINITE;
 }
 
+/* The bus check of a sample's voltage computations (the current loop,
+ * the modulator), once before them: MC_FAULT_NONE for a positive normal
+ * v_dc_V, else mc_drive_voltage_fault. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_drive_bus_fault(float v_dc_V)
+{
+    return mc_positive_normal_f32(v_dc_V) ? MC_FAULT_NONE
+                                          : mc_drive_voltage_fault(v_dc_V);
+}
+
 /* The current loop on t's measured i_d, i_q and references i_d_ref,
- * i_q_ref at omega_e = n_p t->omega_m_rad_s and t->v_dc_V: v_d, v_q,
- * v_saturated into *t. Fault bits: mc_drive_voltage_fault for a bus
- * voltage that is not finite or below FLT_MIN; a non-finite current,
- * reference or speed gives a non-finite v_d or v_q instead, which the
- * application's output check turns into MC_FAULT_NONFINITE (it resets the
- * current loop before the next use). Interrupt context: yes. */
-MC_STATIC_FORCEINLINE uint32_t mc_drive_current_step(mc_drive_t *d,
-                                                     mc_telemetry_t *t)
+ * i_q_ref at omega_e = n_p t->omega_m_rad_s and t->v_dc_V, which the
+ * caller has checked (mc_drive_bus_fault): v_d, v_q, v_saturated into
+ * *t. A non-finite current, reference or speed gives a non-finite v_d or
+ * v_q, which the application's output check turns into
+ * MC_FAULT_NONFINITE (it resets the current loop before the next use).
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void mc_drive_current_step(mc_drive_t *d,
+                                                 mc_telemetry_t *t)
 {
     const float v_dc = t->v_dc_V;
-    if (!mc_positive_normal_f32(v_dc)) {
-        return mc_drive_voltage_fault(v_dc);
-    }
     const mc_current_loop_out_t v = mc_current_loop_step_unchecked_f32(
         &d->current, t->i_d_A, t->i_q_A, t->i_d_ref_A, t->i_q_ref_A,
         d->n_p * t->omega_m_rad_s, v_dc);
     t->v_d_V = v.v_d_V;
     t->v_q_V = v.v_q_V;
     t->v_saturated = v.saturated;
-    return MC_FAULT_NONE;
 }
 
 /* Hands the current loop over from a controller that commands the voltage
