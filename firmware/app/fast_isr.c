@@ -302,7 +302,13 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
                                mc_current_limit_active_f32(&app->drive.limit)) |
             check_estimate(app, &fr, t, running);
     }
-    mc_emf_monitor_remember_f32(&app->emf.mon, fr.in.i_alpha_A, fr.in.i_beta_A);
+    /* the currents for the EMF check of the next slow tick: a steady ISR
+     * keeps them only before one (slow_count wrapped to 0 above; a slow
+     * tick is never steady) */
+    if (!steady || app->slow_count == 0u) {
+        mc_emf_monitor_remember_f32(&app->emf.mon, fr.in.i_alpha_A,
+                                    fr.in.i_beta_A);
+    }
     active |= app->slow_faults;
     raise_faults(app, active, t);
 
@@ -377,9 +383,14 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
         }
     }
     mc_app_tlm_end(app);
-    app->steady_key = (app->state == MC_STATE_RUN && app->overrun_streak == 0u)
-                          ? mc_app_run_key(true, false, app->mode)
-                          : MC_APP_NO_RUN_KEY;
+    const bool run_continues =
+        app->state == MC_STATE_RUN && app->overrun_streak == 0u;
+    if (!steady) {
+        app->steady_key = run_continues ? mc_app_run_key(true, false, app->mode)
+                                        : MC_APP_NO_RUN_KEY;
+    } else if (!run_continues) { /* else the key stays: the same mode */
+        app->steady_key = MC_APP_NO_RUN_KEY;
+    }
 }
 
 /* The two instances, out of line: each a tail call from mc_app_fast_isr,
