@@ -82,14 +82,17 @@ static void latch_faults(mc_app_t *app, uint32_t new_bits,
     }
 }
 
-/* Latch the bits of faults not latched yet (inline: usually none). */
-MC_STATIC_FORCEINLINE void raise_faults(mc_app_t *app, uint32_t faults,
+/* Latch the bits of faults not latched yet (inline: usually none); true
+ * if there were any (then the state is FAULT). */
+MC_STATIC_FORCEINLINE bool raise_faults(mc_app_t *app, uint32_t faults,
                                         const mc_telemetry_t *t)
 {
     const uint32_t new_bits = faults & ~app->faults_latched;
     if (new_bits != MC_FAULT_NONE) {
         latch_faults(app, new_bits, t);
+        return true;
     }
+    return false;
 }
 
 /* The estimate against the measured back-EMF (mc/emf_monitor.h) over the
@@ -154,16 +157,18 @@ static uint32_t calibrate(mc_app_t *app, const float i_raw_A[3])
 }
 
 /* The RUN case of a steady ISR (mc_app_fast_isr: RUN, enabled, the same
- * mode): the control path unless this ISR's protection stopped RUN. */
-MC_STATIC_FORCEINLINE void state_run_steady(mc_app_t *app,
+ * mode): the control path unless this ISR's protection stopped RUN
+ * (stopped); true if RUN stopped here or before. */
+MC_STATIC_FORCEINLINE bool state_run_steady(mc_app_t *app,
                                             const mc_command_t *cmd,
                                             const mc_frame_t *fr,
-                                            mc_telemetry_t *t)
+                                            mc_telemetry_t *t, bool stopped)
 {
     app->clear_prev = cmd->clear_fault;
-    if (app->state == MC_STATE_RUN) {
-        raise_faults(app, mc_app_run(app, cmd, fr, t), t);
+    if (stopped) {
+        return true;
     }
+    return raise_faults(app, mc_app_run(app, cmd, fr, t), t);
 }
 
 /* State transitions and actions of this ISR (after the protection). */
@@ -310,18 +315,22 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
                                     fr.in.i_beta_A);
     }
     active |= app->slow_faults;
-    raise_faults(app, active, t);
+    /* A steady ISR is in RUN until it latches a fault (only that stops
+     * its RUN): it tracks this itself instead of reading the state back
+     * after every call that may latch. */
+    bool stopped = raise_faults(app, active, t);
 
     /* Transitions, calibration, control. */
     if (steady) {
-        state_run_steady(app, cmd, &fr, t);
+        stopped = state_run_steady(app, cmd, &fr, t, stopped);
     } else {
         state_machine(app, cmd, adc.i_abc_A, active, &fr, t);
     }
+    const bool in_run = steady ? !stopped : (app->state == MC_STATE_RUN);
 
     /* Write: duties for the next period, or everything off. The voltage
      * they apply is recorded for the observers (mc/delay_comp.h). */
-    if (app->state == MC_STATE_RUN || app->state == MC_STATE_ALIGN) {
+    if (in_run || (!steady && app->state == MC_STATE_ALIGN)) {
         hal_pwm_set_duties(t->duty_abc);
         if (!steady) {
             hal_pwm_enable_outputs();
@@ -355,7 +364,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
         app->overrun_streak++;
         if (app->overrun_streak >= app->timing.isr_overrun_limit) {
             active |= MC_FAULT_ISR_OVERRUN;
-            raise_faults(app, MC_FAULT_ISR_OVERRUN, t);
+            stopped = raise_faults(app, MC_FAULT_ISR_OVERRUN, t) || stopped;
         }
     } else {
         app->overrun_streak = 0u;
@@ -367,7 +376,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     /* The rest is constant in RUN (no active fault; the maximum cost and
      * the overruns written above when they change): a steady ISR still in
      * RUN finds it in the record. */
-    if (!steady || app->state != MC_STATE_RUN) {
+    if (!steady || stopped) {
         t->isr_cost_max_s = app->isr_cost_max_s;
         t->isr_overruns = app->isr_overruns;
         t->faults_active = active;
@@ -384,7 +393,8 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
     mc_app_tlm_end(app);
     const bool run_continues =
-        app->state == MC_STATE_RUN && app->overrun_streak == 0u;
+        (steady ? !stopped : (app->state == MC_STATE_RUN)) &&
+        app->overrun_streak == 0u;
     if (!steady) {
         app->steady_key = run_continues ? mc_app_run_key(true, false, app->mode)
                                         : MC_APP_NO_RUN_KEY;
