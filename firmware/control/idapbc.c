@@ -46,18 +46,14 @@ mc_status_t mc_idapbc_step_f32(const mc_idapbc_f32_t *ctl, float i_d_A,
                                float omega_m_hat_rad_s, float tau_L_hat_Nm,
                                float *v_d_V, float *v_q_V)
 {
-    /* (11) with kt general (kt = n_p Phi in the paper) */
-    const float v_d = ctl->R_minus_r_ohm * i_d_A -
-                      ctl->L_np_over_kt * omega_m_hat_rad_s * tau_L_hat_Nm;
-    const float v_q = ctl->R_minus_r_ohm * i_q_A +
-                      ctl->np_psi_Wb * omega_m_ref_rad_s +
-                      ctl->r_over_kt * tau_L_hat_Nm;
+    const mc_idapbc_voltages_t v = mc_idapbc_voltages_unchecked_f32(
+        ctl, i_d_A, i_q_A, omega_m_ref_rad_s, omega_m_hat_rad_s, tau_L_hat_Nm);
     /* any non-finite input propagates into v_d or v_q */
-    if (!isfinite(v_d) || !isfinite(v_q)) {
+    if (!isfinite(v.v_d_V) || !isfinite(v.v_q_V)) {
         return MC_ERR_NONFINITE;
     }
-    *v_d_V = v_d;
-    *v_q_V = v_q;
+    *v_d_V = v.v_d_V;
+    *v_q_V = v.v_q_V;
     return MC_OK;
 }
 

@@ -53,7 +53,8 @@ MC_CONTROLLER_INTERFACE(idapbc);
 
 /* (11): the current the controller steers to is i_q* = tau_c / kt (Remark
  * 2), tau_c = tau_hat (+ tau_I with the integral action, mc/idapbc.h; a
- * non-finite speed makes tau_I NaN, which (11) reports): limited to i_max
+ * non-finite speed makes tau_I NaN, which (11) passes on to the voltages,
+ * the output check's MC_FAULT_NONFINITE): limited to i_max
  * here (a documented limit, not a clamp of a fault: tau_hat beyond the
  * estimator's bound is MC_FAULT_ESTIMATE). */
 MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
@@ -76,13 +77,13 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
      * by |rho_hat| (|rho_hat|^2 from the flux front end, within its
      * plausibility bounds or already a fault). */
     const float rho = ctl->paper_rotation ? sqrtf(t->flux_ratio_sq) : 1.0f;
-    if (mc_idapbc_step_f32(&ctl->law, rho * t->i_d_A, rho * t->i_q_A,
-                           t->omega_m_ref_rad_s, t->omega_m_rad_s, tau,
-                           &t->v_d_V, &t->v_q_V) != MC_OK) {
-        return MC_FAULT_NONFINITE;
-    }
-    t->v_d_V *= rho;
-    t->v_q_V *= rho;
+    /* unchecked: a non-finite voltage is the application's output check's
+     * MC_FAULT_NONFINITE */
+    const mc_idapbc_voltages_t v = mc_idapbc_voltages_unchecked_f32(
+        &ctl->law, rho * t->i_d_A, rho * t->i_q_A, t->omega_m_ref_rad_s,
+        t->omega_m_rad_s, tau);
+    t->v_d_V = v.v_d_V * rho;
+    t->v_q_V = v.v_q_V * rho;
     return MC_FAULT_NONE;
 }
 

@@ -73,6 +73,7 @@
 
 #include <stdint.h>
 
+#include "mc/compiler.h"
 #include "mc/status.h"
 
 typedef struct {
@@ -91,6 +92,10 @@ typedef struct {
     float r_over_kt;     /* r / kt, V / (N m) */
 } mc_idapbc_f32_t;
 
+typedef struct {
+    float v_d_V, v_q_V;
+} mc_idapbc_voltages_t;
+
 /* Damping giving critically damped poles at w* = 0 (see above):
  * r = 2 sqrt(n_p Phi kt L / J). NaN for non-finite or non-positive
  * arguments. Interrupt context: no (design time). */
@@ -103,6 +108,24 @@ float mc_idapbc_critical_damping_f32(uint32_t pole_pairs, float psi_Wb,
  * context. The controller is static: nothing to reset. */
 mc_status_t mc_idapbc_init_f32(mc_idapbc_f32_t *ctl,
                                const mc_idapbc_params_t *p);
+
+/* The voltages of (11) without checks, inline, for an ISR path that
+ * checks what it computes from them: any non-finite input propagates
+ * into v_d or v_q. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE mc_idapbc_voltages_t mc_idapbc_voltages_unchecked_f32(
+    const mc_idapbc_f32_t *ctl, float i_d_A, float i_q_A,
+    float omega_m_ref_rad_s, float omega_m_hat_rad_s, float tau_L_hat_Nm)
+{
+    /* (11) with kt general (kt = n_p Phi in the paper) */
+    const mc_idapbc_voltages_t v = {
+        .v_d_V = ctl->R_minus_r_ohm * i_d_A -
+                 ctl->L_np_over_kt * omega_m_hat_rad_s * tau_L_hat_Nm,
+        .v_q_V = ctl->R_minus_r_ohm * i_q_A +
+                 ctl->np_psi_Wb * omega_m_ref_rad_s +
+                 ctl->r_over_kt * tau_L_hat_Nm,
+    };
+    return v;
+}
 
 /* One sample of (11): currents in the estimated rotor frame, speed
  * reference w_ref and estimates w_hat (mechanical rad/s), tau_hat (N m);
