@@ -191,7 +191,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_eeo_voltages(mc_ctl_eeo_t *ctl,
     if (ctl->g3_amp != 0.0f) {
         float s;
         float c;
-        mc_sincos_f32(ctl->g3_phase, &s, &c);
+        /* the phase is kept wrapped to (-pi, pi] (below) */
+        mc_sincos_in_range_f32(ctl->g3_phase, &s, &c);
         float g3 = ctl->g3_nominal + ctl->g3_amp * s;
         const float lo = ctl->law.g3_min_per_kgm2;
         const float hi = ctl->law.g3_max_per_kgm2;
