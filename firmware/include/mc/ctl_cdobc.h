@@ -200,8 +200,11 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
         const uint32_t n = ctl->n_count;
         const uint32_t c = t->encoder_count;
         if (ctl->restart) {
+            /* the ages too: the window's first sample is this one (its age
+             * is read with the n-th step) */
             for (uint32_t i = 0u; i < n; ++i) {
                 ctl->count_steps[i] = 0;
+                ctl->edge_ages_s[i] = t->encoder_edge_age_s;
             }
             ctl->count_next = 0u;
             ctl->count_valid = 0u;
