@@ -178,6 +178,58 @@ MC_STATIC_FORCEINLINE float mc_ctl_cdobc_count_speed(const mc_ctl_cdobc_t *ctl,
     return (float)ctl->count_sum * ctl->count_rad_s;
 }
 
+/* The observer's speed of this sample (ctl->restart: the window starts
+ * here): the count difference over the last n_count periods
+ * (mc_ctl_cdobc_count_speed), t->omega_m_rad_s until there are n_count
+ * steps since the start or without a count. The periods' wrapped steps
+ * are kept as a running sum (integers: exact, the same as summing them
+ * anew; |sum| < 2^26), each beside its sample's edge age. Interrupt
+ * context: yes. */
+MC_STATIC_FORCEINLINE float mc_ctl_cdobc_observer_speed(mc_ctl_cdobc_t *ctl,
+                                                        const mc_telemetry_t *t)
+{
+    float w_obs = t->omega_m_rad_s;
+    if (ctl->cpr == 0u) {
+        return w_obs;
+    }
+    const uint32_t n = ctl->n_count;
+    const uint32_t c = t->encoder_count;
+    if (ctl->restart) {
+        /* the ages too: the window's first sample is this one (its age
+         * is read with the n-th step) */
+        for (uint32_t i = 0u; i < n; ++i) {
+            ctl->count_steps[i] = 0;
+            ctl->edge_ages_s[i] = t->encoder_edge_age_s;
+        }
+        ctl->count_next = 0u;
+        ctl->count_valid = 0u;
+        ctl->count_sum = 0;
+    } else {
+        const int32_t half = ctl->half_cpr;
+        int32_t s = (int32_t)c - (int32_t)ctl->count_last;
+        if (s >= half) {
+            s -= (int32_t)ctl->cpr;
+        } else if (s < -half) {
+            s += (int32_t)ctl->cpr;
+        }
+        const uint32_t i = ctl->count_next;
+        ctl->count_sum += s - ctl->count_steps[i];
+        ctl->count_steps[i] = s;
+        const float age_old_s = ctl->edge_ages_s[i]; /* n_count ago */
+        const float age_s = t->encoder_edge_age_s;
+        ctl->edge_ages_s[i] = age_s;
+        ctl->count_next = (i + 1u == n) ? 0u : i + 1u;
+        if (ctl->count_valid < n) {
+            ctl->count_valid++;
+        }
+        if (ctl->count_valid == n) {
+            w_obs = mc_ctl_cdobc_count_speed(ctl, age_old_s, age_s);
+        }
+    }
+    ctl->count_last = c;
+    return w_obs;
+}
+
 /* Speed / position mode: v_d, v_q into *t. Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
                                                      mc_drive_t *d,
@@ -191,48 +243,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
     t->i_q_ref_A = 0.0f;
     const float w = t->omega_m_rad_s;
     const float w_ref = o->omega_m_ref_rad_s;
-    /* the observer's speed: the count difference over the last n_count
-     * periods (the estimator's until there are n_count), the sum of the
-     * periods' wrapped steps kept as a running sum (integers: exact, the
-     * same as summing them anew; |sum| < 2^26) */
-    float w_obs = w;
-    if (ctl->cpr != 0u) {
-        const uint32_t n = ctl->n_count;
-        const uint32_t c = t->encoder_count;
-        if (ctl->restart) {
-            /* the ages too: the window's first sample is this one (its age
-             * is read with the n-th step) */
-            for (uint32_t i = 0u; i < n; ++i) {
-                ctl->count_steps[i] = 0;
-                ctl->edge_ages_s[i] = t->encoder_edge_age_s;
-            }
-            ctl->count_next = 0u;
-            ctl->count_valid = 0u;
-            ctl->count_sum = 0;
-        } else {
-            const int32_t half = ctl->half_cpr;
-            int32_t s = (int32_t)c - (int32_t)ctl->count_last;
-            if (s >= half) {
-                s -= (int32_t)ctl->cpr;
-            } else if (s < -half) {
-                s += (int32_t)ctl->cpr;
-            }
-            const uint32_t i = ctl->count_next;
-            ctl->count_sum += s - ctl->count_steps[i];
-            ctl->count_steps[i] = s;
-            const float age_old_s = ctl->edge_ages_s[i]; /* n_count ago */
-            const float age_s = t->encoder_edge_age_s;
-            ctl->edge_ages_s[i] = age_s;
-            ctl->count_next = (i + 1u == n) ? 0u : i + 1u;
-            if (ctl->count_valid < n) {
-                ctl->count_valid++;
-            }
-            if (ctl->count_valid == n) {
-                w_obs = mc_ctl_cdobc_count_speed(ctl, age_old_s, age_s);
-            }
-        }
-        ctl->count_last = c;
-    }
+    const float w_obs = mc_ctl_cdobc_observer_speed(ctl, t);
     if (ctl->restart) {
         if (mc_cdobc_reset_f32(&ctl->law, w) != MC_OK ||
             mc_cdobc_pid_reset_f32(&ctl->pid, w) != MC_OK) {
