@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "hal/encoder.h"
+
 /* Relative tolerance of the plant / firmware PWM frequency agreement
  * (the firmware holds it in float). */
 #define SIM_ENGINE_F_PWM_REL_TOL 1.0e-6
@@ -321,7 +323,7 @@ static uint32_t apply_injections(sim_engine_t *e, plant_measurement_t *m, bool *
             }
             m->encoder_count = st->count;
             /* no edge since: its age grows */
-            m->encoder_edge_age_s = fmin(m->t_s - st->t_edge_s, PLANT_ENCODER_EDGE_AGE_MAX_S);
+            m->encoder_edge_age_s = m->t_s - st->t_edge_s;
             break;
         case SIM_INJECT_ENCODER_COUNT_LOSS:
             m->encoder_count = lose_counts(inj, st, m->encoder_count, cpr);
@@ -350,7 +352,8 @@ static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m, bo
     mb->adc.v_dc_V = (float)m->v_dc_V;
     mb->adc.temp_valid = false;
     mb->encoder_count = m->encoder_count;
-    mb->encoder_edge_age_s = (float)m->encoder_edge_age_s;
+    /* the HAL contract's range: an older edge, or none, reads as the maximum */
+    mb->encoder_edge_age_s = (float)fmin(m->encoder_edge_age_s, (double)HAL_ENCODER_EDGE_AGE_MAX_S);
     if (m->encoder_index) {
         /* The plant's index mark is at count 0 (see plant.h). */
         mb->encoder_index_seen = true;

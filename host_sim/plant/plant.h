@@ -338,13 +338,10 @@ typedef struct {
     double i_abc_A[3];
     double v_dc_V;
     uint32_t encoder_count;    /* 0 .. 4*lines - 1 */
-    double encoder_edge_age_s; /* since the count's last edge, at most
-                                  PLANT_ENCODER_EDGE_AGE_MAX_S (plant_sample) */
+    double encoder_edge_age_s; /* since the count's last edge (plant_sample);
+                                  INFINITY: none (at rest, no encoder) */
     bool encoder_index;        /* index crossed since the previous sample */
 } plant_measurement_t;
-
-/* The edge age reported for an edge older than this, or none, s. */
-#define PLANT_ENCODER_EDGE_AGE_MAX_S 1.0
 
 typedef enum {
     PLANT_OK = 0,

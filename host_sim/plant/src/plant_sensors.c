@@ -69,13 +69,12 @@ int64_t plant_encoder_turn(double theta_m_rad, double offset_rad)
  * shaft has turned past it (frac in [0, 1) of the count, counting up) at
  * the speed of the sample (counts per s): the edge below when turning
  * forward, the one above when turning back. Exact at constant speed (a
- * count lasts 12 us at 500 rpm with 10000 counts per turn); older than
- * PLANT_ENCODER_EDGE_AGE_MAX_S, or no motion, reads as that. */
+ * count lasts 12 us at 500 rpm with 10000 counts per turn); no motion:
+ * INFINITY. */
 static double edge_age_s(double frac, double counts_per_s)
 {
     const double past = (counts_per_s > 0.0) ? frac : (counts_per_s < 0.0) ? 1.0 - frac : INFINITY;
-    const double age = past / fabs(counts_per_s);
-    return (age < PLANT_ENCODER_EDGE_AGE_MAX_S) ? age : PLANT_ENCODER_EDGE_AGE_MAX_S;
+    return past / fabs(counts_per_s);
 }
 
 void plant_sample(plant_t *p, plant_measurement_t *m)
@@ -89,7 +88,7 @@ void plant_sample(plant_t *p, plant_measurement_t *m)
 
     const plant_encoder_t *enc = &p->cfg.sensors.encoder;
     m->encoder_count = 0u;
-    m->encoder_edge_age_s = PLANT_ENCODER_EDGE_AGE_MAX_S;
+    m->encoder_edge_age_s = INFINITY;
     m->encoder_index = false;
     const double revs = (v->theta_m_rad + enc->offset_rad) / PLANT_TWO_PI;
     /* no count for a non-finite angle (a diverged plant state) */
