@@ -171,6 +171,15 @@ MC_STATIC_FORCEINLINE bool state_run_steady(mc_app_t *app,
     return raise_faults(app, mc_app_run(app, cmd, fr, t), t);
 }
 
+/* In RUN now: a steady ISR is in RUN until it latches a fault (stopped:
+ * only that stops its RUN), so it knows without reading the state back
+ * after every call that may latch; the other instance reads it. */
+MC_STATIC_FORCEINLINE bool isr_in_run(const mc_app_t *app, bool steady,
+                                      bool stopped)
+{
+    return steady ? !stopped : (app->state == MC_STATE_RUN);
+}
+
 /* State transitions and actions of this ISR (after the protection). */
 static void state_machine(mc_app_t *app, const mc_command_t *cmd,
                           const float i_raw_A[3], uint32_t active,
@@ -315,9 +324,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
                                     fr.in.i_beta_A);
     }
     active |= app->slow_faults;
-    /* A steady ISR is in RUN until it latches a fault (only that stops
-     * its RUN): it tracks this itself instead of reading the state back
-     * after every call that may latch. */
+    /* whether a steady ISR latched a fault (isr_in_run) */
     bool stopped = raise_faults(app, active, t);
 
     /* Transitions, calibration, control. */
@@ -326,11 +333,11 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     } else {
         state_machine(app, cmd, adc.i_abc_A, active, &fr, t);
     }
-    const bool in_run = steady ? !stopped : (app->state == MC_STATE_RUN);
 
     /* Write: duties for the next period, or everything off. The voltage
      * they apply is recorded for the observers (mc/delay_comp.h). */
-    if (in_run || (!steady && app->state == MC_STATE_ALIGN)) {
+    if (isr_in_run(app, steady, stopped) ||
+        (!steady && app->state == MC_STATE_ALIGN)) {
         hal_pwm_set_duties(t->duty_abc);
         if (!steady) {
             hal_pwm_enable_outputs();
@@ -355,7 +362,6 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     const float cost_s = (float)cycles * app->s_per_cycle;
     if (cycles > app->isr_cost_max_cycles) {
         app->isr_cost_max_cycles = cycles;
-        app->isr_cost_max_s = cost_s;
         t->isr_cost_max_s = cost_s;
     }
     if (cycles > app->period_cycles) { /* cost_s > Ts (app.c) */
@@ -377,7 +383,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
      * the overruns written above when they change): a steady ISR still in
      * RUN finds it in the record. */
     if (!steady || stopped) {
-        t->isr_cost_max_s = app->isr_cost_max_s;
+        t->isr_cost_max_s = (float)app->isr_cost_max_cycles * app->s_per_cycle;
         t->isr_overruns = app->isr_overruns;
         t->faults_active = active;
         t->state = app->state;
@@ -393,8 +399,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
     mc_app_tlm_end(app);
     const bool run_continues =
-        (steady ? !stopped : (app->state == MC_STATE_RUN)) &&
-        app->overrun_streak == 0u;
+        isr_in_run(app, steady, stopped) && app->overrun_streak == 0u;
     if (!steady) {
         app->steady_key = run_continues ? mc_app_run_key(true, false, app->mode)
                                         : MC_APP_NO_RUN_KEY;

@@ -116,7 +116,6 @@ typedef struct {
     uint32_t period_cycles; /* the most cycles within Ts (the deadline) */
     uint32_t isr_count;
     uint32_t isr_cost_max_cycles; /* the costliest ISR since init */
-    float isr_cost_max_s;         /* its cost */
     uint32_t isr_overruns;        /* total */
     uint32_t overrun_streak;      /* consecutive, up to the latest ISR */
     mc_timing_t timing;           /* from the HAL's realised PWM */
