@@ -49,7 +49,6 @@ mc_status_t mc_flux_front_init(mc_flux_front_t *f, const mc_config_t *cfg,
     f->n_p = (float)m->pole_pairs;
     f->kt_Nm_per_A = mc_motor_kt_f32(m);
     f->i_q_hat_prev_A = 0.0f;
-    f->theta_e_prev_rad = 0.0f;
     f->theta_m_rad = 0.0f;
     return MC_OK;
 }
@@ -68,7 +67,6 @@ uint32_t mc_flux_front_start(mc_flux_front_t *f, float theta_e_rad,
     }
     f->i_q_hat_prev_A =
         mc_flux_obs_iq_f32(&f->obs, in->i_alpha_A, in->i_beta_A);
-    f->theta_e_prev_rad = mc_flux_obs_theta_e_f32(&f->obs);
     return MC_FAULT_NONE;
 }
 

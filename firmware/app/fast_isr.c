@@ -282,6 +282,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     t->encoder_edge_age_s = edge_age_s;
     fr.in.v_applied = &app->v_applied;
     fr.in.running = steady || (app->state == MC_STATE_RUN);
+    fr.in.slow_tick = slow_tick;
     fr.in.theta_e_hold_rad = steady ? 0.0f /* unused in RUN */
                                     : mc_align_theta_e_f32(&app->align);
     mc_clarke_f32(t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2], &fr.in.i_alpha_A,

@@ -60,6 +60,7 @@ mc_status_t mc_flux_obs_reset_f32(mc_flux_obs_f32_t *obs, float theta_e_rad,
     obs->i_alpha_prev_A = i_alpha_A;
     obs->i_beta_prev_A = i_beta_A;
     obs->theta_e_rad = theta;
+    obs->d_theta_e_rad = 0.0f;
     return MC_OK;
 }
 
@@ -73,7 +74,7 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
     /* the step on a copy, kept only if finite (state untouched otherwise) */
     mc_flux_obs_f32_t next = *obs;
     if (!(mc_flux_obs_update_f32(&next, i_alpha_A, i_beta_A, v_alpha_V,
-                                 v_beta_V) == 0.0f)) {
+                                 v_beta_V, true) == 0.0f)) {
         return MC_ERR_NONFINITE;
     }
     *obs = next;

@@ -293,6 +293,28 @@ MC_STATIC_FORCEINLINE float mc_atan2_unchecked_f32(float y, float x)
     return (y < 0.0f) ? -a : a;
 }
 
+/* |y / x| below which mc_atan2_small_f32 sums its series. */
+#define MC_ATAN_SERIES_MAX_RATIO 0.125f
+
+/* atan2(y, x) of a small angle, e.g. between two successive samples of a
+ * turning vector (y = cross, x = dot product): for x > 0 and |y| <
+ * MC_ATAN_SERIES_MAX_RATIO x the series t - t^3/3 + t^5/5 - t^7/7 of
+ * t = y / x (remainder below t^9/9 = 1.5e-9 rad), otherwise the
+ * out-of-line mc_atan2_f32. A NaN input gives NaN; x = +Inf with a
+ * finite y gives 0 (the series), any other infinity NaN: the caller
+ * checks its inputs, or values that imply them. One guarded division.
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_atan2_small_f32(float y, float x)
+{
+    if (fabsf(y) < MC_ATAN_SERIES_MAX_RATIO * x) { /* false for NaN */
+        const float t = y / x;                     /* guarded: x > 0 */
+        const float t2 = t * t;
+        return t * (1.0f - t2 * (1.0f / 3.0f -
+                                 t2 * (1.0f / 5.0f - t2 * (1.0f / 7.0f))));
+    }
+    return mc_atan2_f32(y, x);
+}
+
 /*
  * Unwrap operator A (paper 001, Appendix A): turns a sequence of wrapped
  * angles e_k in (-pi, pi] (e.g. atan2 outputs) into a continuous angle

@@ -41,10 +41,9 @@ typedef struct {
     mc_flux_obs_f32_t obs;
     float ratio_min_sq, ratio_max_sq;
     float n_p;
-    float kt_Nm_per_A;      /* torque per A of q current */
-    float i_q_hat_prev_A;   /* i_q_hat at the previous sample */
-    float theta_e_prev_rad; /* for the multi-turn position */
-    float theta_m_rad;      /* multi-turn position estimate */
+    float kt_Nm_per_A;    /* torque per A of q current */
+    float i_q_hat_prev_A; /* i_q_hat at the previous sample */
+    float theta_m_rad;    /* multi-turn position estimate */
 } mc_flux_front_t;
 
 extern const mc_param_t mc_flux_obs_params[];
@@ -84,16 +83,18 @@ MC_STATIC_FORCEINLINE void mc_flux_front_held(const mc_flux_front_t *f,
 
 /* What one running sample of the front end gives the speed estimator. */
 typedef struct {
-    float theta_obs_rad; /* the observer's angle (13), [-pi, pi] */
-    float i_q_mean_A;    /* the q current over the interval */
-    float rho_sq;        /* |rho_hat|^2 */
-    float finite;        /* +-0 if the observer's step is finite, else NaN
-                            (mc_flux_obs_update_f32) */
+    float theta_obs_rad;   /* the observer's angle (13), [-pi, pi] */
+    float d_theta_obs_rad; /* its increment over the interval */
+    float i_q_mean_A;      /* the q current over the interval */
+    float rho_sq;          /* |rho_hat|^2 */
+    float finite;          /* +-0 if the observer's step is finite, else NaN
+                              (mc_flux_obs_update_f32) */
 } mc_flux_front_sample_t;
 
 /* What the speed estimator behind the front end made of the sample. */
 typedef struct {
-    float theta_e_rad; /* the reported angle, (-pi, pi] */
+    float theta_e_rad;   /* the reported angle, (-pi, pi] */
+    float d_theta_e_rad; /* its increment over the interval */
     float omega_m_rad_s;
     float tau_L_Nm;
     float finite; /* +-0 if its new states are finite, else NaN */
@@ -110,8 +111,9 @@ mc_flux_front_update(mc_flux_front_t *f, const mc_est_input_t *in)
     mc_applied_voltage_last_f32(in->v_applied, &v_al, &v_be);
     mc_flux_front_sample_t s;
     s.finite = mc_flux_obs_update_f32(&f->obs, in->i_alpha_A, in->i_beta_A,
-                                      v_al, v_be);
+                                      v_al, v_be, in->slow_tick);
     s.theta_obs_rad = mc_flux_obs_theta_e_f32(&f->obs);
+    s.d_theta_obs_rad = mc_flux_obs_d_theta_e_f32(&f->obs);
     s.rho_sq = mc_flux_obs_rho_sq_f32(&f->obs);
     /* i_q over [t_{k-1}, t_k]: trapezoid of the two samples. */
     const float i_q_hat =
@@ -185,10 +187,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_flux_front_finish(
     const mc_flux_front_speed_t *sp, bool observer_angle,
     const mc_estimate_bounds_t *b, mc_telemetry_t *t, mc_est_sincos_t *sc)
 {
-    const float theta_m =
-        f->theta_m_rad +
-        mc_angle_diff_near_f32(sp->theta_e_rad, f->theta_e_prev_rad) / f->n_p;
-    f->theta_e_prev_rad = sp->theta_e_rad;
+    const float theta_m = f->theta_m_rad + sp->d_theta_e_rad / f->n_p;
     /* the common case in one chain of comparisons, each false for NaN */
     if (s->finite + sp->finite + theta_m * 0.0f == 0.0f &&
         s->rho_sq >= f->ratio_min_sq && s->rho_sq <= f->ratio_max_sq &&

@@ -40,11 +40,12 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_ii_step(mc_est_flux_ii_t *est,
         return MC_FAULT_NONE;
     }
     const mc_flux_front_sample_t s = mc_flux_front_update(&est->front, in);
-    const float finite =
-        mc_speed_load_obs_update_f32(&est->ii, s.theta_obs_rad, s.i_q_mean_A);
+    const float finite = mc_speed_load_obs_advance_f32(
+        &est->ii, s.d_theta_obs_rad, s.i_q_mean_A);
     const mc_flux_front_speed_t sp = {
         .finite = finite,
         .theta_e_rad = s.theta_obs_rad,
+        .d_theta_e_rad = s.d_theta_obs_rad,
         .omega_m_rad_s = mc_speed_load_obs_omega_m_f32(&est->ii),
         .tau_L_Nm = mc_speed_load_obs_tau_L_f32(&est->ii),
     };

@@ -54,6 +54,10 @@ typedef struct {
     const mc_applied_voltage_f32_t *v_applied; /* mean voltage over the
                                                   last interval */
     bool running;           /* RUN: observers step; else held */
+    bool slow_tick;         /* a slow-loop tick (mc/app.h): the sample on
+                               which an estimator re-anchors what it
+                               accumulates (mc_flux_obs_update_f32's
+                               angle) */
     float theta_e_hold_rad; /* angle reported while held (the
                                ALIGN vector's) */
 } mc_est_input_t;

@@ -81,7 +81,8 @@ typedef struct {
     float lambda_alpha_Wb, lambda_beta_Wb; /* lambda_hat_k */
     float eta_alpha_Wb, eta_beta_Wb;       /* eta_k */
     float i_alpha_prev_A, i_beta_prev_A;   /* i_k (for the next trapezoid) */
-    float theta_e_rad;                     /* atan2(eta), in [-pi, pi] */
+    float theta_e_rad;   /* the angle of eta, [-pi, pi] (see update) */
+    float d_theta_e_rad; /* its increment over the last step, (-pi, pi] */
 } mc_flux_obs_f32_t;
 
 /*
@@ -105,9 +106,9 @@ mc_status_t mc_flux_obs_reset_f32(mc_flux_obs_f32_t *obs, float theta_e_rad,
 
 /*
  * One sample at t_k: i_*_A measured at t_k, v_*_V the mean voltage applied
- * over [t_{k-1}, t_k] (see above). Updates the flux estimate and the angle.
- * Non-finite input or result: MC_ERR_NONFINITE, state untouched.
- * Interrupt context: yes (bounded time, one atan2, no
+ * over [t_{k-1}, t_k] (see above). Updates the flux estimate and the angle
+ * (atan2 of eta). Non-finite input or result: MC_ERR_NONFINITE, state
+ * untouched. Interrupt context: yes (bounded time, one atan2, no
  * division, no sqrt).
  */
 mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
@@ -121,12 +122,19 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
  * Returns eta_alpha * 0 + eta_beta * 0, +-0 if the step's inputs and
  * results are all finite and NaN otherwise (the aggregate of mc/finite.h:
  * eta = lambda - L i is non-finite whenever a current, a voltage, a flux
- * or the previous state is, so the two new eta decide). Interrupt context:
- * yes (no division but atan2's, no sqrt).
+ * or the previous state is, so the two new eta decide).
+ * The angle (13): exact_angle, atan2(eta) (as the checked step); else the
+ * last angle advanced by the angle between the last two eta
+ * (mc_atan2_small_f32 of their cross and dot products: 18 instructions
+ * on the M4 instead of atan2's 42), wrapped. Each such step adds the
+ * rounding of one addition (at most 1.2e-7 rad) to the angle: a caller
+ * that advances it takes an exact step every few samples (the drive: on
+ * every slow tick, mc/estimator.h). Interrupt context: yes (one division,
+ * no sqrt).
  */
 MC_STATIC_FORCEINLINE float
 mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
-                       float v_alpha_V, float v_beta_V)
+                       float v_alpha_V, float v_beta_V, bool exact_angle)
 {
     const float Ts = obs->Ts_s;
     const float half_R = obs->half_R_ohm;
@@ -152,8 +160,27 @@ mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
     obs->eta_alpha_Wb = na;
     obs->eta_beta_Wb = nb;
     /* (13): angle of eta (finite for a finite eta) */
-    obs->theta_e_rad = mc_atan2_unchecked_f32(nb, na);
+    const float theta_prev = obs->theta_e_rad;
+    float theta;
+    float d_theta;
+    if (exact_angle) {
+        theta = mc_atan2_unchecked_f32(nb, na);
+        d_theta = mc_angle_diff_near_f32(theta, theta_prev);
+    } else {
+        d_theta = mc_atan2_small_f32(ea * nb - eb * na, ea * na + eb * nb);
+        theta = mc_wrap_pi_near_f32(theta_prev + d_theta);
+    }
+    obs->theta_e_rad = theta;
+    obs->d_theta_e_rad = d_theta;
     return na * 0.0f + nb * 0.0f;
+}
+
+/* The angle's increment over the last step, (-pi, pi]. Interrupt context:
+ * yes. */
+MC_STATIC_FORCEINLINE float
+mc_flux_obs_d_theta_e_f32(const mc_flux_obs_f32_t *obs)
+{
+    return obs->d_theta_e_rad;
 }
 
 /* Estimated electrical angle theta_e_hat of the last step, [-pi, pi].

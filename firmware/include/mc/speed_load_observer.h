@@ -133,27 +133,24 @@ mc_status_t mc_speed_load_obs_step_f32(mc_speed_load_obs_f32_t *obs,
                                        float theta_e_rad, float i_q_A);
 
 /*
- * The step of mc_speed_load_obs_step_f32 without its checks, inline, for a
- * caller that checks a whole sample once: the same operations, written
- * into *obs whatever they give (NaN and Inf propagate into the state; the
- * increment's wrap is mc_wrap_pi_f32's result). Returns the sum of x * 0
- * over the three new estimator states: +-0 if all are finite, NaN
- * otherwise (the aggregate of mc/finite.h; a non-finite input or angle
- * increment reaches w_hat through nu). Interrupt context: yes (no
- * division).
+ * The step of (15) from the electrical angle's increment d_theta_e_rad =
+ * theta_u,k - theta_u,k-1 (below) without checks, inline, for a caller
+ * that knows the increment (e.g. mc_flux_obs_d_theta_e_f32) and checks a
+ * whole sample once: written into *obs whatever it gives (NaN and Inf
+ * propagate into the state; theta_e_prev_rad is not touched: such a
+ * caller keeps the angle). Returns the sum of x * 0 over the three new
+ * estimator states: +-0 if all are finite, NaN otherwise (the aggregate
+ * of mc/finite.h; a non-finite input reaches w_hat through nu).
+ * Interrupt context: yes (no division).
  */
 MC_STATIC_FORCEINLINE float
-mc_speed_load_obs_update_f32(mc_speed_load_obs_f32_t *obs, float theta_e_rad,
-                             float i_q_A)
+mc_speed_load_obs_advance_f32(mc_speed_load_obs_f32_t *obs, float d_theta_e_rad,
+                              float i_q_A)
 {
-    /* Appendix A, corrected: the unwrapped increment theta_u,k - theta_u,k-1
-     * with the +-pi rule, never the unbounded unwrapped angle itself. */
-    const float d_theta =
-        mc_angle_diff_near_f32(theta_e_rad, obs->theta_e_prev_rad);
     const float w = obs->omega_m_rad_s;
     const float tau = obs->tau_L_Nm;
     /* innovation: measured minus predicted electrical angle increment */
-    const float nu = d_theta - obs->np_Ts * w;
+    const float nu = d_theta_e_rad - obs->np_Ts * w;
     /* Euler step of (15) on z = [w; tau] (derivation in the header) */
     const float dw =
         obs->a1 * nu + obs->Ts_over_J * (obs->kt_Nm_per_A * i_q_A - tau);
@@ -165,8 +162,26 @@ mc_speed_load_obs_update_f32(mc_speed_load_obs_f32_t *obs, float theta_e_rad,
     obs->omega_m_rad_s = w_new;
     obs->omega_comp_rad_s = comp_new;
     obs->tau_L_Nm = tau_new;
-    obs->theta_e_prev_rad = theta_e_rad;
     return w_new * 0.0f + comp_new * 0.0f + tau_new * 0.0f;
+}
+
+/*
+ * The step of mc_speed_load_obs_step_f32 without its checks, inline: the
+ * same operations (the increment's wrap is mc_wrap_pi_f32's result, then
+ * mc_speed_load_obs_advance_f32), written into *obs whatever they give.
+ * Returns as mc_speed_load_obs_advance_f32. Interrupt context: yes (no
+ * division).
+ */
+MC_STATIC_FORCEINLINE float
+mc_speed_load_obs_update_f32(mc_speed_load_obs_f32_t *obs, float theta_e_rad,
+                             float i_q_A)
+{
+    /* Appendix A, corrected: the unwrapped increment theta_u,k - theta_u,k-1
+     * with the +-pi rule, never the unbounded unwrapped angle itself. */
+    const float d_theta =
+        mc_angle_diff_near_f32(theta_e_rad, obs->theta_e_prev_rad);
+    obs->theta_e_prev_rad = theta_e_rad;
+    return mc_speed_load_obs_advance_f32(obs, d_theta, i_q_A);
 }
 
 /* Mechanical speed estimate w_hat, rad/s. Interrupt context: yes. */

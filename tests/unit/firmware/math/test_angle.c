@@ -231,6 +231,45 @@ static void test_atan2_special_inputs(void **state)
     assert_true(isnan(mc_atan2_f32(1.0f, -INFINITY)));
 }
 
+/* The small-angle arctangent (the angle between two successive samples of
+ * a turning vector): on both sides of its series' limit |y/x| = 1/8 and at
+ * any magnitude, within 3e-8 rad of the exact atan2 of its float inputs
+ * where it sums the series (t^9/9 = 1.5e-9 plus the roundings) and within
+ * atan2's bound elsewhere; atan2's answers for x <= 0 and zero; NaN
+ * for a NaN or an infinity but x = +Inf (0, the series). */
+static void test_atan2_small(void **state)
+{
+    (void)state;
+    double max_series = 0.0;
+    double max_other = 0.0;
+    const double mags[] = { 1e-30, 1e-6, 1.0, 7.3, 1e6, 1e30 };
+    for (size_t m = 0; m < sizeof mags / sizeof mags[0]; m++) {
+        for (double phi = -0.3; phi <= 0.3; phi += 1e-5) {
+            const float y = (float)(mags[m] * sin(phi));
+            const float x = (float)(mags[m] * cos(phi));
+            const double err = fabs((double)mc_atan2_small_f32(y, x) - atan2((double)y, (double)x));
+            if (fabs((double)y) < 0.125 * (double)x) {
+                max_series = fmax(max_series, err);
+            } else {
+                max_other = fmax(max_other, err);
+            }
+        }
+    }
+    printf("atan2_small: max error %.3g rad (series), %.3g rad (atan2)\n", max_series, max_other);
+    assert_true(max_series <= 3e-8);
+    assert_true(max_other > 0.0 && max_other <= MC_ATAN2_MAX_ERR_RAD);
+    assert_true(fabsf(mc_atan2_small_f32(0.01f, -1.0f) - (float)(MC_TEST_PI - atan(0.01))) <=
+                1e-6f);
+    assert_true(fabsf(mc_atan2_small_f32(-1.0f, 0.0f) + (float)(MC_TEST_PI / 2.0)) <= 1e-6f);
+    assert_true(mc_atan2_small_f32(0.0f, 0.0f) == 0.0f);
+    assert_true(mc_atan2_small_f32(0.0f, 2.0f) == 0.0f);
+    assert_true(isnan(mc_atan2_small_f32(NAN, 1.0f)));
+    assert_true(isnan(mc_atan2_small_f32(0.01f, NAN)));
+    assert_true(mc_atan2_small_f32(0.01f, INFINITY) == 0.0f);
+    assert_true(isnan(mc_atan2_small_f32(INFINITY, 1.0f)));
+    assert_true(isnan(mc_atan2_small_f32(0.01f, -INFINITY)));
+}
+
 /* ---- unwrap (operator A) ------------------------------------------------- */
 
 /* Feed the wrapped (float) version of a double angle sequence and check
@@ -349,6 +388,7 @@ int main(void)
         cmocka_unit_test(test_sincos_exact_points_and_non_finite),
         cmocka_unit_test(test_atan2_error_bound),
         cmocka_unit_test(test_atan2_special_inputs),
+        cmocka_unit_test(test_atan2_small),
         cmocka_unit_test(test_unwrap_10000_turns_forward_and_backward),
         cmocka_unit_test(test_unwrap_uniform_ramp_through_pi),
         cmocka_unit_test(test_unwrap_non_finite_and_counter_limit),
