@@ -31,7 +31,6 @@ mc_status_t mc_applied_voltage_init_f32(mc_applied_voltage_f32_t *av,
         return MC_ERR_PARAM;
     }
     av->w_older = delay_periods - 0.5f;
-    av->w_newer = 1.0f - av->w_older;
     return mc_applied_voltage_reset_f32(av, 0.0f, 0.0f);
 }
 
@@ -41,9 +40,9 @@ mc_status_t mc_applied_voltage_reset_f32(mc_applied_voltage_f32_t *av,
     if (!isfinite(v_alpha_V) || !isfinite(v_beta_V)) {
         return MC_ERR_NONFINITE;
     }
+    av->v_older_V[0] = v_alpha_V;
+    av->v_older_V[1] = v_beta_V;
     av->v_newer_V[0] = v_alpha_V;
     av->v_newer_V[1] = v_beta_V;
-    av->v_mean_V[0] = v_alpha_V;
-    av->v_mean_V[1] = v_beta_V;
     return MC_OK;
 }

@@ -97,13 +97,10 @@ mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float theta_e_rad,
     }
 }
 
-/* The mean of the next interval is formed when its second command is
- * recorded (push), so the sample that needs it only reads it. */
 typedef struct {
     float w_older;      /* d - 1/2, weight of v_{k-2} */
-    float w_newer;      /* 3/2 - d, weight of v_{k-1} */
+    float v_older_V[2]; /* v_{k-2} (alpha, beta) */
     float v_newer_V[2]; /* v_{k-1} (alpha, beta) */
-    float v_mean_V[2];  /* w v_{k-2} + (1 - w) v_{k-1} (alpha, beta) */
 } mc_applied_voltage_f32_t;
 
 /* Validate 0.5 <= delay_periods <= 1.5 (finite) and reset the history to
@@ -123,20 +120,20 @@ MC_STATIC_FORCEINLINE void
 mc_applied_voltage_last_f32(const mc_applied_voltage_f32_t *av,
                             float *v_alpha_V, float *v_beta_V)
 {
-    *v_alpha_V = av->v_mean_V[0];
-    *v_beta_V = av->v_mean_V[1];
+    const float w_old = av->w_older;
+    const float w_new = 1.0f - w_old;
+    *v_alpha_V = w_old * av->v_older_V[0] + w_new * av->v_newer_V[0];
+    *v_beta_V = w_old * av->v_older_V[1] + w_new * av->v_newer_V[1];
 }
 
 /* Record the voltage commanded in ISR k (as the inverter will produce it),
  * finite: the caller has checked it. Interrupt context: yes. */
-MC_STATIC_FORCEINLINE void
+static inline void
 mc_applied_voltage_push_unchecked_f32(mc_applied_voltage_f32_t *av,
                                       float v_alpha_V, float v_beta_V)
 {
-    const float w_old = av->w_older;
-    const float w_new = av->w_newer;
-    av->v_mean_V[0] = w_old * av->v_newer_V[0] + w_new * v_alpha_V;
-    av->v_mean_V[1] = w_old * av->v_newer_V[1] + w_new * v_beta_V;
+    av->v_older_V[0] = av->v_newer_V[0];
+    av->v_older_V[1] = av->v_newer_V[1];
     av->v_newer_V[0] = v_alpha_V;
     av->v_newer_V[1] = v_beta_V;
 }
