@@ -82,7 +82,9 @@ static void test_load_beyond_alignment_torque_faults(void **state)
 /* An implausible estimate is a fault, not a run-away: with the speed bound
  * set to 2 rad/s and a 50 rpm (5.2 rad/s) reference, the I&I speed
  * estimate crosses the bound while the true speed passes about 2 rad/s;
- * MC_FAULT_ESTIMATE latches and the PWM goes off in that ISR. */
+ * MC_FAULT_ESTIMATE latches on the next slow tick (the plausibility test,
+ * mc/est_flux_front.h: at most 0.45 ms later) and the PWM goes off in
+ * that ISR. */
 static void test_estimate_out_of_bounds_faults(void **state)
 {
     (void)state;

@@ -178,20 +178,27 @@ MC_STATIC_FORCEINLINE void mc_flux_front_sincos(const mc_flux_front_t *f,
  * NONFINITE for a non-finite value (with ESTIMATE for an implausible
  * |rho_hat| if the observer's step itself was finite, as the checked
  * steps report it; *t and the position keep the last sample's values),
- * else ESTIMATE for |rho_hat| outside [ratio_min, ratio_max] or an
- * estimate outside *b. On NONFINITE the observers' states may hold NaN:
- * the fault stops RUN, which restarts through hold (the position) and
- * start (every other state this step writes). Interrupt context: yes. */
+ * else ESTIMATE for |rho_hat| below ratio_min (every sample: it guards
+ * mc_flux_front_sincos's division) and, on a slow tick (in->slow_tick:
+ * a plausibility test, a slow-loop period late at most), for |rho_hat|
+ * above ratio_max or an estimate outside *b; any sample that finds a
+ * fault reports them all. On NONFINITE the observers' states may hold
+ * NaN: the fault stops RUN, which restarts through hold (the position)
+ * and start (every other state this step writes). Interrupt context:
+ * yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_flux_front_finish(
-    mc_flux_front_t *f, const mc_flux_front_sample_t *s,
-    const mc_flux_front_speed_t *sp, bool observer_angle,
-    const mc_estimate_bounds_t *b, mc_telemetry_t *t, mc_est_sincos_t *sc)
+    mc_flux_front_t *f, const mc_est_input_t *in,
+    const mc_flux_front_sample_t *s, const mc_flux_front_speed_t *sp,
+    bool observer_angle, const mc_estimate_bounds_t *b, mc_telemetry_t *t,
+    mc_est_sincos_t *sc)
 {
     const float theta_m = f->theta_m_rad + sp->d_theta_e_rad / f->n_p;
     /* the common case in one chain of comparisons, each false for NaN */
     if (s->finite + sp->finite + theta_m * 0.0f == 0.0f &&
-        s->rho_sq >= f->ratio_min_sq && s->rho_sq <= f->ratio_max_sq &&
-        mc_estimate_bounds_hold(b, sp->omega_m_rad_s, sp->tau_L_Nm)) {
+        s->rho_sq >= f->ratio_min_sq &&
+        (!in->slow_tick ||
+         (s->rho_sq <= f->ratio_max_sq &&
+          mc_estimate_bounds_hold(b, sp->omega_m_rad_s, sp->tau_L_Nm)))) {
         mc_flux_front_publish(f, s->rho_sq, sp, theta_m, t);
         mc_flux_front_sincos(f, s->rho_sq, sp->theta_e_rad, observer_angle, sc);
         return MC_FAULT_NONE;

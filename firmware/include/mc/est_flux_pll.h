@@ -51,8 +51,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
         .omega_m_rad_s = mc_pll_obs_omega_m_f32(&est->pll),
         .tau_L_Nm = mc_pll_obs_tau_L_f32(&est->pll),
     };
-    return mc_flux_front_finish(&est->front, &s, &sp, false, &est->pll.bounds,
-                                t, sc);
+    return mc_flux_front_finish(&est->front, in, &s, &sp, false,
+                                &est->pll.bounds, t, sc);
 }
 
 #endif /* MC_EST_FLUX_PLL_H */

@@ -35,7 +35,10 @@ typedef enum {
                                            mc/emf_monitor.h) */
     MC_FAULT_ESTIMATE = 1u << 8,        /* sensorless estimate implausible
                                            (speed, load or flux out of its
-                                           bounds: diverged observer) */
+                                           bounds: diverged observer;
+                                           tested on the slow tick, the
+                                           flux's lower bound every
+                                           sample: mc/est_flux_front.h) */
     MC_FAULT_OVERSPEED = 1u << 9,       /* |omega_m_hat| > overspeed_rad_s */
     MC_FAULT_STALL = 1u << 10,          /* high current at near-zero speed
                                            for stall_time_s */

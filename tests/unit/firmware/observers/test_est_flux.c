@@ -161,15 +161,30 @@ static void check_faults(const est_ops_t *ops)
     assert_int_equal(ops->step(est, &fx.in, &t), MC_FAULT_NONFINITE | MC_FAULT_ESTIMATE);
     ops->front(est)->ratio_max_sq = ratio_max_sq;
 
-    /* finite and implausible: ESTIMATE, the estimates published */
+    /* finite and implausible: ESTIMATE, the estimates published; a flux
+     * below ratio_min on every sample (it guards the sine and cosine's
+     * division), one above ratio_max and estimates out of their bounds
+     * on a slow tick (the plausibility test), not between */
+    restart_and_run(ops, est, &fx, &t, 10);
+    const float ratio_min_sq = ops->front(est)->ratio_min_sq;
+    ops->front(est)->ratio_min_sq = 2.0f;
+    assert_int_equal(ops->step(est, &fx.in, &t), MC_FAULT_ESTIMATE);
+    ops->front(est)->ratio_min_sq = ratio_min_sq;
     restart_and_run(ops, est, &fx, &t, 10);
     ops->front(est)->ratio_max_sq = 0.5f;
+    t.flux_ratio_sq = 0.0f;
+    assert_int_equal(ops->step(est, &fx.in, &t), MC_FAULT_NONE);
+    assert_near(t.flux_ratio_sq, 1.0, 1e-5);
+    fx.in.slow_tick = true;
     t.flux_ratio_sq = 0.0f;
     assert_int_equal(ops->step(est, &fx.in, &t), MC_FAULT_ESTIMATE);
     assert_near(t.flux_ratio_sq, 1.0, 1e-5);
     ops->front(est)->ratio_max_sq = ratio_max_sq;
     ops->bounds(est)->omega_m_max_rad_s = 1e-30f;
     fx.in.i_beta_A = 1.0f; /* a torque: the speed estimate moves */
+    fx.in.slow_tick = false;
+    assert_int_equal(ops->step(est, &fx.in, &t), MC_FAULT_NONE);
+    fx.in.slow_tick = true;
     t.theta_m_rad = NAN;
     assert_int_equal(ops->step(est, &fx.in, &t), MC_FAULT_ESTIMATE);
     assert_true(isfinite(t.theta_m_rad) && t.omega_m_rad_s != 0.0f);
