@@ -395,6 +395,32 @@ static void test_nonfinite_inputs_leave_state_untouched(void **state)
     assert_memory_equal(&before, &obs, sizeof obs);
 }
 
+/* An observer with the paper's parameters on trajectory *tr, started at
+ * its t = 0 with 1.5 rad of angle error (about a quarter turn). */
+static void start_with_error(const traj_t *tr, mc_flux_obs_f32_t *obs)
+{
+    const mc_flux_obs_params_t p = paper_params();
+    assert_int_equal(mc_flux_obs_init_f32(obs, &p), MC_OK);
+    double i_ab[2];
+    traj_current(tr, 0.0, i_ab);
+    assert_int_equal(
+        mc_flux_obs_reset_f32(obs, (float)(tr->th0 + 1.5), (float)i_ab[0], (float)i_ab[1]), MC_OK);
+}
+
+/* Sample k of *tr: the currents at k Ts and the mean voltage over the
+ * interval before, in float. */
+static void traj_sample(const traj_t *tr, long k, float i_ab[2], float v_ab[2])
+{
+    const double t = (double)k * P001_TS_S;
+    double v[2], i[2];
+    traj_mean_voltage(tr, t - P001_TS_S, t, v);
+    traj_current(tr, t, i);
+    for (int j = 0; j < 2; j++) {
+        i_ab[j] = (float)i[j];
+        v_ab[j] = (float)v[j];
+    }
+}
+
 /* The ISR's step (mc_flux_obs_update_f32, unchecked) is the checked
  * step's arithmetic: along a motor trajectory (a quarter turn of error at
  * the start, so the observer converges through every octant of its atan2)
@@ -406,23 +432,14 @@ static void test_update_is_the_checked_step(void **state)
 {
     (void)state;
     const traj_t tr = { 0.3, 2.0 * MC_TEST_PI * 20.0, 1.0, 4.0 };
-    const mc_flux_obs_params_t p = paper_params();
     mc_flux_obs_f32_t checked, isr;
-    assert_int_equal(mc_flux_obs_init_f32(&checked, &p), MC_OK);
-    double i_ab[2];
-    traj_current(&tr, 0.0, i_ab);
-    assert_int_equal(
-        mc_flux_obs_reset_f32(&checked, (float)(tr.th0 + 1.5), (float)i_ab[0], (float)i_ab[1]),
-        MC_OK);
+    start_with_error(&tr, &checked);
     memcpy(&isr, &checked, sizeof isr);
     for (long k = 1; k <= 8000; k++) {
-        const double t = (double)k * P001_TS_S;
-        double v[2];
-        traj_mean_voltage(&tr, t - P001_TS_S, t, v);
-        traj_current(&tr, t, i_ab);
-        const float ia = (float)i_ab[0], ib = (float)i_ab[1];
-        assert_int_equal(mc_flux_obs_step_f32(&checked, ia, ib, (float)v[0], (float)v[1]), MC_OK);
-        assert_true(mc_flux_obs_update_f32(&isr, ia, ib, (float)v[0], (float)v[1], true) == 0.0f);
+        float i[2], v[2];
+        traj_sample(&tr, k, i, v);
+        assert_int_equal(mc_flux_obs_step_f32(&checked, i[0], i[1], v[0], v[1]), MC_OK);
+        assert_true(mc_flux_obs_update_f32(&isr, i[0], i[1], v[0], v[1], true) == 0.0f);
         assert_memory_equal(&checked, &isr, sizeof isr);
     }
     const float bad[3] = { NAN, INFINITY, -INFINITY };
@@ -471,32 +488,20 @@ static void test_advanced_angle(void **state)
 {
     (void)state;
     const double speeds_e[2] = { 2.0 * MC_TEST_PI * 20.0, 3000.0 };
-    const mc_flux_obs_params_t p = paper_params();
     for (int sp = 0; sp < 2; sp++) {
         const traj_t tr = { 0.3, speeds_e[sp], 1.0, 4.0 };
         mc_flux_obs_f32_t exact, adv, never;
-        assert_int_equal(mc_flux_obs_init_f32(&exact, &p), MC_OK);
-        double i_ab[2];
-        traj_current(&tr, 0.0, i_ab);
-        assert_int_equal(
-            mc_flux_obs_reset_f32(&exact, (float)(tr.th0 + 1.5), (float)i_ab[0], (float)i_ab[1]),
-            MC_OK);
+        start_with_error(&tr, &exact);
         adv = exact;
         never = exact;
         double max_err = 0.0, max_err_never = 0.0, max_d_err = 0.0;
         for (long k = 1; k <= 20000; k++) {
-            const double t = (double)k * P001_TS_S;
-            double v[2];
-            traj_mean_voltage(&tr, t - P001_TS_S, t, v);
-            traj_current(&tr, t, i_ab);
-            const float ia = (float)i_ab[0], ib = (float)i_ab[1];
+            float i[2], v[2];
+            traj_sample(&tr, k, i, v);
             const float th_prev = adv.theta_e_rad;
-            assert_true(mc_flux_obs_update_f32(&exact, ia, ib, (float)v[0], (float)v[1], true) ==
-                        0.0f);
-            assert_true(mc_flux_obs_update_f32(&adv, ia, ib, (float)v[0], (float)v[1],
-                                               k % 10 == 0) == 0.0f);
-            assert_true(mc_flux_obs_update_f32(&never, ia, ib, (float)v[0], (float)v[1], false) ==
-                        0.0f);
+            assert_true(mc_flux_obs_update_f32(&exact, i[0], i[1], v[0], v[1], true) == 0.0f);
+            assert_true(mc_flux_obs_update_f32(&adv, i[0], i[1], v[0], v[1], k % 10 == 0) == 0.0f);
+            assert_true(mc_flux_obs_update_f32(&never, i[0], i[1], v[0], v[1], false) == 0.0f);
             assert_true(adv.eta_alpha_Wb == exact.eta_alpha_Wb &&
                         adv.eta_beta_Wb == exact.eta_beta_Wb);
             const double th_eta = atan2((double)adv.eta_beta_Wb, (double)adv.eta_alpha_Wb);
