@@ -70,13 +70,13 @@ bool mc_cdobc_needs_redesign_f32(const mc_cdobc_f32_t *ctl,
     return !(fabsf(w - ctl->coef.omega_design_rad_s) <= rel_tol * w);
 }
 
-/* Row i up to its dPhi w terms: w_i + Gn_i nu_prev + Gu_i v_prev
- * + Ld_i dnu. */
+/* Row i up to its (Ad - I) w terms: w_i + Gn_i nu_prev + Gu_i v_prev
+ * + Ld_i (dnu - c . w). */
 MC_STATIC_FORCEINLINE float row_start(const mc_cdobc_coef_f32_t *k,
                                       const float *w, uint32_t i, float nu_prev,
-                                      float v_prev, float dnu)
+                                      float v_prev, float e)
 {
-    return w[i] + k->Gn[i] * nu_prev + k->Gu[i] * v_prev + k->Ld[i] * dnu;
+    return w[i] + k->Gn[i] * nu_prev + k->Gu[i] * v_prev + k->Ld[i] * e;
 }
 
 float mc_cdobc_observe_f32(const mc_cdobc_coef_f32_t *k, const float *w,
@@ -84,31 +84,41 @@ float mc_cdobc_observe_f32(const mc_cdobc_coef_f32_t *k, const float *w,
                            float dnu, float v)
 {
     const uint32_t n = k->n;
-    uint32_t i = 0u;
-    /* two rows a pass: each w_j loaded once for both */
-    for (; i + 1u < n; i += 2u) {
-        const float *row0 = &k->dPhi[i * n];
-        const float *row1 = row0 + n;
-        float s0 = row_start(k, w, i, nu_prev, v_prev, dnu);
-        float s1 = row_start(k, w, i + 1u, nu_prev, v_prev, dnu);
-        for (uint32_t j = 0; j < n; ++j) {
-            const float w_j = w[j];
-            s0 += row0[j] * w_j;
-            s1 += row1[j] * w_j;
-        }
-        w_next[i] = s0;
-        w_next[i + 1u] = s1;
-        v += k->g[i] * s0;
-        v += k->g[i + 1u] * s1;
+    /* the rank-one part (one dot product) and row x2 of Ad - I */
+    float cw = 0.0f;
+    float y0 = 0.0f;
+    for (uint32_t j = 0; j < n; ++j) {
+        cw += k->c[j] * w[j];
+        y0 += k->a0[j] * w[j];
     }
-    if (i < n) { /* the last row of an odd n */
-        const float *row = &k->dPhi[i * n];
-        float s = row_start(k, w, i, nu_prev, v_prev, dnu);
-        for (uint32_t j = 0; j < n; ++j) {
-            s += row[j] * w[j];
+    const float e = dnu - cw;
+    w_next[0] = row_start(k, w, 0u, nu_prev, v_prev, e) + y0;
+    v += k->g[0] * w_next[0];
+    /* the harmonic models' 2 x 2 blocks */
+    uint32_t s = 1u;
+    for (uint32_t b = 0; b < k->n_harm; ++b, s += 2u) {
+        const float *m = k->harm[b];
+        const float w0 = w[s];
+        const float w1 = w[s + 1u];
+        const float r0 =
+            row_start(k, w, s, nu_prev, v_prev, e) + (m[0] * w0 + m[1] * w1);
+        const float r1 = row_start(k, w, s + 1u, nu_prev, v_prev, e) +
+                         (m[2] * w0 + m[3] * w1);
+        w_next[s] = r0;
+        w_next[s + 1u] = r1;
+        v += k->g[s] * r0;
+        v += k->g[s + 1u] * r1;
+    }
+    /* the polynomial's block */
+    for (uint32_t i = 0; i < k->poly_order; ++i) {
+        const float *row = &k->poly[i * MC_CDOBC_POLY_MAX];
+        float y = 0.0f;
+        for (uint32_t j = 0; j < k->poly_order; ++j) {
+            y += row[j] * w[s + j];
         }
-        w_next[i] = s;
-        v += k->g[i] * s;
+        const float r = row_start(k, w, s + i, nu_prev, v_prev, e) + y;
+        w_next[s + i] = r;
+        v += k->g[s + i] * r;
     }
     return v;
 }

@@ -130,6 +130,8 @@ mc_status_t mc_cdobc_design_f64(const mc_cdobc_params_t *p,
     const uint32_t nf = n + 1u;
     mc_cdobc_design_t r = { 0 };
     r.n = n;
+    r.n_harm = m->n_harm;
+    r.poly_order = m->poly_order;
     r.Ts_s = (double)p->Ts_s;
     r.n_p = (double)p->pole_pairs;
     r.J_kgm2 = (double)p->J_kgm2;
@@ -280,23 +282,48 @@ mc_status_t mc_cdobc_design_f64(const mc_cdobc_params_t *p,
     return MC_OK;
 }
 
+/* Where entry (i, j) of Ad - I goes in the float32 coefficients
+ * (mc_cdobc_coef_f32_t): row x2, a harmonic model's block or the
+ * polynomial's block; NULL outside the structure. */
+static float *structured_entry(mc_cdobc_coef_f32_t *r, uint32_t i, uint32_t j)
+{
+    const uint32_t s_poly = 1u + 2u * r->n_harm;
+    if (i == 0u) {
+        return &r->a0[j];
+    }
+    if (i < s_poly) {
+        const uint32_t b = (i - 1u) / 2u;
+        const uint32_t s = 1u + 2u * b;
+        return (j == s || j == s + 1u) ? &r->harm[b][2u * (i - s) + (j - s)]
+                                       : NULL;
+    }
+    return (j >= s_poly)
+               ? &r->poly[(i - s_poly) * MC_CDOBC_POLY_MAX + (j - s_poly)]
+               : NULL;
+}
+
 mc_status_t mc_cdobc_coef_f32(const mc_cdobc_design_t *d,
                               mc_cdobc_coef_f32_t *c)
 {
     const uint32_t n = d->n;
-    if (n < 1u || n > MC_CDOBC_N_MAX) {
+    if (n < 1u || n > MC_CDOBC_N_MAX || d->n_harm > MC_CDOBC_HARM_MAX ||
+        d->poly_order > MC_CDOBC_POLY_MAX ||
+        n != 1u + 2u * d->n_harm + d->poly_order) {
         return MC_ERR_PARAM;
     }
     mc_cdobc_coef_f32_t r = { 0 };
     r.n = n;
+    r.n_harm = d->n_harm;
+    r.poly_order = d->poly_order;
     bool ok = true;
     for (uint32_t i = 0; i < n; ++i) {
         for (uint32_t j = 0; j < n; ++j) {
-            /* Ad - I first (exact for the model blocks), then - Ld c */
-            const double v = (d->Ad[i * n + j] - ((i == j) ? 1.0 : 0.0)) -
-                             d->Ld[i] * d->c[j];
-            ok = ok && (v == 0.0 || mc_f64_to_f32(v, &r.dPhi[i * n + j]));
+            /* Ad - I, exact for the model blocks */
+            const double v = d->Ad[i * n + j] - ((i == j) ? 1.0 : 0.0);
+            float *dst = structured_entry(&r, i, j);
+            ok = ok && (v == 0.0 || (dst != NULL && mc_f64_to_f32(v, dst)));
         }
+        ok = ok && (d->c[i] == 0.0 || mc_f64_to_f32(d->c[i], &r.c[i]));
         const double gu = d->Bd2[i] - d->Ld[i] * d->Bd1;
         ok = ok && (gu == 0.0 || mc_f64_to_f32(gu, &r.Gu[i]));
         /* nu_{k-1} term of the update written with dnu = nu_k - nu_{k-1}:

@@ -242,6 +242,7 @@ mc_status_t mc_cdobc_params_check(const mc_cdobc_params_t *p);
 /* The discrete design at one speed reference, double. */
 typedef struct {
     uint32_t n;                      /* observer order */
+    uint32_t n_harm, poly_order;     /* the models' layout of w (above) */
     double Ts_s, omega_design_rad_s; /* |omega*| floored */
     double b1, a_per_s, L_q_H;       /* (5) */
     double J_kgm2, R_ohm, psi_f_Wb, B_Nms_rad, n_p;
@@ -272,12 +273,22 @@ typedef struct {
 mc_status_t mc_cdobc_design_f64(const mc_cdobc_params_t *p,
                                 double omega_ref_rad_s, mc_cdobc_design_t *d);
 
-/* float32 coefficients of the step. */
+/* float32 coefficients of the step. The observer's matrix minus I,
+ * Ad - I - Ld c, by its structure: the models are autonomous, so Ad - I
+ * is row x2, one 2 x 2 block per harmonic model and the polynomial's
+ * block (its other entries exactly zero, checked by mc_cdobc_coef_f32),
+ * and Ld c has rank one (one dot product c . w). */
 typedef struct {
-    uint32_t n;
-    float dPhi[MC_CDOBC_N_MAX * MC_CDOBC_N_MAX]; /* Ad - Ld c - I */
-    float Gu[MC_CDOBC_N_MAX];                    /* Bd2 - Ld Bd1 */
-    float Gn[MC_CDOBC_N_MAX];                    /* a_wn - Ld (a_nn - 1) */
+    uint32_t n, n_harm, poly_order;
+    float a0[MC_CDOBC_N_MAX];         /* row x2 of Ad - I */
+    float harm[MC_CDOBC_HARM_MAX][4]; /* harmonic model b's block of Ad - I
+                                         (rows 1 + 2b, 2 + 2b), by rows */
+    float poly[MC_CDOBC_POLY_MAX * MC_CDOBC_POLY_MAX]; /* the polynomial's
+                                         block of Ad - I, by rows (row
+                                         stride MC_CDOBC_POLY_MAX) */
+    float c[MC_CDOBC_N_MAX];  /* nu row of the model: c . w */
+    float Gu[MC_CDOBC_N_MAX]; /* Bd2 - Ld Bd1 */
+    float Gn[MC_CDOBC_N_MAX]; /* a_wn - Ld (a_nn - 1) */
     float Ld[MC_CDOBC_N_MAX];
     float g[MC_CDOBC_N_MAX];
     float h[MC_CDOBC_N_MAX]; /* 1 on each model's output state */
@@ -286,7 +297,8 @@ typedef struct {
 } mc_cdobc_coef_f32_t;
 
 /* Rounds a design to float32; MC_ERR_PARAM if a value does not fit
- * (overflow or a nonzero rounding to zero). Interrupt context: no. */
+ * (overflow or a nonzero rounding to zero) or Ad - I has a nonzero entry
+ * outside its structure (mc_cdobc_coef_f32_t). Interrupt context: no. */
 mc_status_t mc_cdobc_coef_f32(const mc_cdobc_design_t *d,
                               mc_cdobc_coef_f32_t *c);
 
@@ -397,10 +409,10 @@ MC_STATIC_FORCEINLINE float *mc_cdobc_state_f32(mc_cdobc_f32_t *ctl)
 }
 
 /* The observer update (8) of the step, discrete, from w into w_next:
- * w_next = w + dPhi w + Gn nu_prev + Gu v_prev + Ld dnu (each row in
- * that order, its dPhi terms j = 0 .. n-1); returns v + g . w_next (the
- * terms in the order of the rows). Out of line: its loops get the
- * registers they need (two rows a pass, each w_j loaded once for both).
+ * w_next = w + Gn nu_prev + Gu v_prev + Ld (dnu - c . w) + (Ad - I) w
+ * (each row in that order; (Ad - I) w by its structure,
+ * mc_cdobc_coef_f32_t); returns v + g . w_next (the terms in the order
+ * of the rows). Out of line: its loops get the registers they need.
  * Interrupt context: yes. */
 float mc_cdobc_observe_f32(const mc_cdobc_coef_f32_t *k, const float *w,
                            float *w_next, float nu_prev, float v_prev,
@@ -423,8 +435,8 @@ mc_cdobc_step_core_f32(mc_cdobc_f32_t *ctl, float omega_m_rad_s,
     float *w_next = ctl->w_buf[ctl->w_sel ^ 1u];
     const float nu_prev = ctl->nu_prev;
     const float v_prev = ctl->v_prev;
-    /* observer (8), discrete: w += dPhi w + Gn nu_prev + Gu v_prev
-     * + Ld (nu - nu_prev) */
+    /* observer (8), discrete: w += (Ad - I - Ld c) w + Gn nu_prev
+     * + Gu v_prev + Ld (nu - nu_prev) */
     const float nu = -omega_m_rad_s;
     const float dnu = nu - nu_prev;
     /* (6) + (9) on the prediction, folded (above); the g . w terms

@@ -20,6 +20,8 @@
  */
 #include "mc_test.h"
 
+#include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -569,49 +571,134 @@ static void test_nonfinite_and_validation(void **state)
     assert_int_equal(mc_cdobc_pid_reset_f32(&pid, INFINITY), MC_ERR_NONFINITE);
 }
 
-/* The observer update two rows a pass (mc_cdobc_observe_f32) against the
- * row-by-row loop it replaced, the same operations in the same order:
- * bit for bit, every order n, odd and even. */
-static void test_observe_matches_row_loop(void **state)
+/* Entry (i, j) of Ad - I as the float32 coefficients hold it (0 outside
+ * their structure, mc_cdobc_coef_f32_t), in double. */
+static double coef_a_minus_i(const mc_cdobc_coef_f32_t *k, uint32_t i, uint32_t j)
+{
+    const uint32_t s_poly = 1u + 2u * k->n_harm;
+    if (i == 0u) {
+        return k->a0[j];
+    }
+    if (i < s_poly) {
+        const uint32_t s = 1u + 2u * ((i - 1u) / 2u);
+        return (j == s || j == s + 1u) ? k->harm[(i - 1u) / 2u][2u * (i - s) + (j - s)] : 0.0;
+    }
+    return (j >= s_poly) ? k->poly[(i - s_poly) * MC_CDOBC_POLY_MAX + (j - s_poly)] : 0.0;
+}
+
+/* The float32 coefficients of real designs (CDOBC with the sensor models,
+ * n = 13; GPIOBC; HDOBC; both placements) are the design's Ad - I and c
+ * rounded to float, entry by entry (the structure loses nothing: every
+ * entry outside it is exactly zero in the design), and a design with a
+ * nonzero entry outside the structure is refused. */
+static void test_coef_structure(void **state)
+{
+    (void)state;
+    const mc_cdobc_kind_t kinds[3] = { MC_CDOBC_KIND_CDOBC, MC_CDOBC_KIND_GPIOBC,
+                                       MC_CDOBC_KIND_HDOBC };
+    for (int kd = 0; kd < 3; kd++) {
+        for (int pl = 0; pl < 2; pl++) {
+            mc_cdobc_params_t p;
+            mc_cdobc_design_t d;
+            design_set(kinds[kd], kd == 0, pl ? MC_CDOBC_PLACE_ROBUST : MC_CDOBC_PLACE_LITERAL, &p,
+                       &d, RPM500);
+            mc_cdobc_coef_f32_t k;
+            assert_int_equal(mc_cdobc_coef_f32(&d, &k), MC_OK);
+            const uint32_t n = d.n;
+            for (uint32_t i = 0; i < n; ++i) {
+                for (uint32_t j = 0; j < n; ++j) {
+                    const double a = d.Ad[i * n + j] - ((i == j) ? 1.0 : 0.0);
+                    assert_true(coef_a_minus_i(&k, i, j) == (double)(float)a);
+                }
+                assert_true(k.c[i] == (float)d.c[i]);
+            }
+            const uint32_t s_poly = 1u + 2u * d.n_harm;
+            if (s_poly < n) { /* a polynomial row's x2 entry */
+                mc_cdobc_design_t bad = d;
+                bad.Ad[s_poly * n] = 1e-3;
+                assert_int_equal(mc_cdobc_coef_f32(&bad, &k), MC_ERR_PARAM);
+            }
+            if (d.n_harm >= 2u) { /* between two harmonic blocks */
+                mc_cdobc_design_t bad = d;
+                bad.Ad[1u * n + 3u] = 1e-3;
+                assert_int_equal(mc_cdobc_coef_f32(&bad, &k), MC_ERR_PARAM);
+            }
+        }
+    }
+}
+
+/* The observer update by its structure (mc_cdobc_observe_f32) against the
+ * dense update w + Gn nu_prev + Gu v_prev + Ld dnu + (Ad - I - Ld c) w in
+ * double, with random coefficients of every layout (n_harm 0 .. 4, N 0 ..
+ * 3): within a few float roundings of the terms' magnitudes. */
+static void test_observe_structured(void **state)
 {
     (void)state;
     test_rng_t rng = test_rng_seed(2002);
-    for (uint32_t n = 1u; n <= MC_CDOBC_N_MAX; ++n) {
-        for (int rep = 0; rep < 200; ++rep) {
-            mc_cdobc_coef_f32_t k = { .n = n };
-            float w[MC_CDOBC_N_MAX];
-            for (uint32_t i = 0; i < n; ++i) {
-                for (uint32_t j = 0; j < n; ++j) {
-                    k.dPhi[i * n + j] = (float)test_rng_range(&rng, -0.1, 0.1);
+    double worst = 0.0;
+    for (uint32_t nh = 0u; nh <= MC_CDOBC_HARM_MAX; ++nh) {
+        for (uint32_t np = 0u; np <= MC_CDOBC_POLY_MAX; ++np) {
+            const uint32_t n = 1u + 2u * nh + np;
+            for (int rep = 0; rep < 200; ++rep) {
+                mc_cdobc_coef_f32_t k = { .n = n, .n_harm = nh, .poly_order = np };
+                float w[MC_CDOBC_N_MAX];
+                for (uint32_t i = 0; i < n; ++i) {
+                    k.a0[i] = (float)test_rng_range(&rng, -0.1, 0.1);
+                    k.c[i] = (float)test_rng_range(&rng, -0.1, 0.1);
+                    k.Gn[i] = (float)test_rng_range(&rng, -1.0, 1.0);
+                    k.Gu[i] = (float)test_rng_range(&rng, -1.0, 1.0);
+                    k.Ld[i] = (float)test_rng_range(&rng, -10.0, 10.0);
+                    k.g[i] = (float)test_rng_range(&rng, -5.0, 5.0);
+                    w[i] = (float)test_rng_range(&rng, -100.0, 100.0);
                 }
-                k.Gn[i] = (float)test_rng_range(&rng, -1.0, 1.0);
-                k.Gu[i] = (float)test_rng_range(&rng, -1.0, 1.0);
-                k.Ld[i] = (float)test_rng_range(&rng, -10.0, 10.0);
-                k.g[i] = (float)test_rng_range(&rng, -5.0, 5.0);
-                w[i] = (float)test_rng_range(&rng, -100.0, 100.0);
-            }
-            const float nu_prev = (float)test_rng_range(&rng, -60.0, 60.0);
-            const float v_prev = (float)test_rng_range(&rng, -200.0, 200.0);
-            const float dnu = (float)test_rng_range(&rng, -2.0, 2.0);
-            const float v0 = (float)test_rng_range(&rng, -50.0, 50.0);
-            float ref[MC_CDOBC_N_MAX];
-            float v_ref = v0;
-            for (uint32_t i = 0; i < n; ++i) {
-                float s = w[i] + k.Gn[i] * nu_prev + k.Gu[i] * v_prev + k.Ld[i] * dnu;
-                for (uint32_t j = 0; j < n; ++j) {
-                    s += k.dPhi[i * n + j] * w[j];
+                for (uint32_t b = 0; b < nh; ++b) {
+                    for (int e = 0; e < 4; ++e) {
+                        k.harm[b][e] = (float)test_rng_range(&rng, -0.1, 0.1);
+                    }
                 }
-                ref[i] = s;
+                for (uint32_t e = 0; e < MC_CDOBC_POLY_MAX * MC_CDOBC_POLY_MAX; ++e) {
+                    k.poly[e] = (float)test_rng_range(&rng, -0.1, 0.1);
+                }
+                const float nu_prev = (float)test_rng_range(&rng, -60.0, 60.0);
+                const float v_prev = (float)test_rng_range(&rng, -200.0, 200.0);
+                const float dnu = (float)test_rng_range(&rng, -2.0, 2.0);
+                const float v0 = (float)test_rng_range(&rng, -50.0, 50.0);
+                double cw = 0.0, cw_mag = 0.0;
+                for (uint32_t j = 0; j < n; ++j) {
+                    cw += (double)k.c[j] * w[j];
+                    cw_mag += fabs((double)k.c[j] * w[j]);
+                }
+                double ref[MC_CDOBC_N_MAX], mag[MC_CDOBC_N_MAX];
+                double v_ref = v0, v_mag = fabs((double)v0);
+                for (uint32_t i = 0; i < n; ++i) {
+                    const double t[5] = { w[i], (double)k.Gn[i] * nu_prev, (double)k.Gu[i] * v_prev,
+                                          (double)k.Ld[i] * dnu, -(double)k.Ld[i] * cw };
+                    ref[i] = 0.0;
+                    mag[i] = fabs((double)k.Ld[i]) * cw_mag;
+                    for (int e = 0; e < 5; ++e) {
+                        ref[i] += t[e];
+                        mag[i] += fabs(t[e]);
+                    }
+                    for (uint32_t j = 0; j < n; ++j) {
+                        const double a = coef_a_minus_i(&k, i, j) * w[j];
+                        ref[i] += a;
+                        mag[i] += fabs(a);
+                    }
+                    v_ref += (double)k.g[i] * ref[i];
+                    v_mag += fabs((double)k.g[i]) * mag[i];
+                }
+                float out[MC_CDOBC_N_MAX];
+                const float v = mc_cdobc_observe_f32(&k, w, out, nu_prev, v_prev, dnu, v0);
+                for (uint32_t i = 0; i < n; ++i) {
+                    const double r = fabs(out[i] - ref[i]) / (mag[i] * FLT_EPSILON);
+                    worst = fmax(worst, r);
+                    assert_true(r <= 2.0 * (double)n);
+                }
+                assert_true(fabs(v - v_ref) <= 4.0 * (double)n * v_mag * FLT_EPSILON);
             }
-            for (uint32_t i = 0; i < n; ++i) {
-                v_ref += k.g[i] * ref[i];
-            }
-            float out[MC_CDOBC_N_MAX];
-            const float v = mc_cdobc_observe_f32(&k, w, out, nu_prev, v_prev, dnu, v0);
-            assert_memory_equal(out, ref, n * sizeof out[0]);
-            assert_memory_equal(&v, &v_ref, sizeof v);
         }
     }
+    printf("structured observer update: worst error %.2f float roundings of the terms\n", worst);
 }
 
 /* The ISR's step (mc_cdobc_step_core_f32) is the checked step without
@@ -667,7 +754,8 @@ int main(void)
         cmocka_unit_test(test_redesign_on_reference_change),
         cmocka_unit_test(test_saturation_fed_back),
         cmocka_unit_test(test_nonfinite_and_validation),
-        cmocka_unit_test(test_observe_matches_row_loop),
+        cmocka_unit_test(test_coef_structure),
+        cmocka_unit_test(test_observe_structured),
         cmocka_unit_test(test_step_core),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
