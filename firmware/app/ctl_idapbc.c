@@ -1,6 +1,8 @@
 /* Controller "idapbc": paper 001 eq. (11) in the drive (mc/ctl_idapbc.h). */
 #include "mc/ctl_idapbc.h"
 
+#include <math.h>
+
 #include "mc/config.h"
 
 const mc_param_t mc_ctl_idapbc_params[] = {
@@ -74,7 +76,8 @@ mc_status_t mc_ctl_idapbc_init(mc_ctl_idapbc_t *ctl, const mc_config_t *cfg,
     const mc_motor_params_t *m = &cfg->motor;
     const mc_ctl_idapbc_config_t *c = &cfg->idapbc;
     const float kt = mc_motor_kt_f32(m);
-    if (c->r_ohm < 0.0f) {
+    const float inv_kt = 1.0f / kt; /* kt > 0: the motor's validation */
+    if (c->r_ohm < 0.0f || !isfinite(inv_kt)) {
         return MC_ERR_PARAM;
     }
     float r = c->r_ohm;
@@ -101,7 +104,7 @@ mc_status_t mc_ctl_idapbc_init(mc_ctl_idapbc_t *ctl, const mc_config_t *cfg,
     }
     ctl->integral_enabled = c->integral_enabled;
     ctl->paper_rotation = c->paper_rotation;
-    ctl->kt_Nm_per_A = kt;
+    ctl->inv_kt_A_per_Nm = inv_kt;
     ctl->tau_max_Nm = kt * cfg->limits.i_max_A;
     return MC_OK;
 }

@@ -45,8 +45,8 @@ typedef struct {
     mc_pi_f32_t integral; /* tau_I (zeroed when disabled) */
     bool integral_enabled;
     bool paper_rotation;
-    float kt_Nm_per_A;
-    float tau_max_Nm; /* kt i_max: limit of tau_c */
+    float inv_kt_A_per_Nm; /* 1 / kt */
+    float tau_max_Nm;      /* kt i_max: limit of tau_c */
 } mc_ctl_idapbc_t;
 
 MC_CONTROLLER_INTERFACE(idapbc);
@@ -70,15 +70,23 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
     }
     tau = (tau > tau_lim) ? tau_lim : ((tau < -tau_lim) ? -tau_lim : tau);
     t->i_d_ref_A = 0.0f;
-    t->i_q_ref_A = tau / ctl->kt_Nm_per_A;
+    t->i_q_ref_A = tau * ctl->inv_kt_A_per_Nm;
     /* The rotations into and out of the estimated frame: by the unit
      * vector of rho_hat's angle (t->i_d_A, t->i_q_A and the inverse Park
      * of the control path), or, as printed, by rho_hat itself: both scaled
      * by |rho_hat| (|rho_hat|^2 from the flux front end, within its
      * plausibility bounds or already a fault). */
-    const float rho = ctl->paper_rotation ? sqrtf(t->flux_ratio_sq) : 1.0f;
     /* unchecked: a non-finite voltage is the application's output check's
      * MC_FAULT_NONFINITE */
+    if (!ctl->paper_rotation) {
+        const mc_idapbc_voltages_t v = mc_idapbc_voltages_unchecked_f32(
+            &ctl->law, t->i_d_A, t->i_q_A, t->omega_m_ref_rad_s,
+            t->omega_m_rad_s, tau);
+        t->v_d_V = v.v_d_V;
+        t->v_q_V = v.v_q_V;
+        return MC_FAULT_NONE;
+    }
+    const float rho = sqrtf(t->flux_ratio_sq);
     const mc_idapbc_voltages_t v = mc_idapbc_voltages_unchecked_f32(
         &ctl->law, rho * t->i_d_A, rho * t->i_q_A, t->omega_m_ref_rad_s,
         t->omega_m_rad_s, tau);
