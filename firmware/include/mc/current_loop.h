@@ -121,9 +121,9 @@ MC_STATIC_FORCEINLINE float mc_current_loop_axis_f32(mc_pi_f32_t *pi,
                                                      float v_lim_V, float ff_V,
                                                      float error_A, bool *sat)
 {
-    const float lo = -v_lim_V - ff_V;
-    const float hi = v_lim_V - ff_V;
-    return mc_pi_step_within_unchecked_f32(pi, error_A, lo, hi, sat) + ff_V;
+    /* limits [-v_lim - ff, v_lim - ff]: centre -ff, half-width v_lim */
+    return mc_pi_step_centred_unchecked_f32(pi, error_A, -ff_V, v_lim_V, sat) +
+           ff_V;
 }
 
 /* One sample without checks, for an ISR path that checks v_dc_V before

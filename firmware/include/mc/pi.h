@@ -129,6 +129,28 @@ mc_pi_step_within_unchecked_f32(mc_pi_f32_t *pi, float error, float out_min,
     return u - (error - error);
 }
 
+/* mc_pi_step_within_unchecked_f32 on the limits [centre - half,
+ * centre + half] (half > 0), its common case tested as |u - centre| <
+ * half and |integrator - centre| <= half: two comparisons instead of
+ * four, the limits formed only when the test fails. The result differs
+ * from mc_pi_step_within_unchecked_f32's only where the rounding of
+ * centre -+ half puts u or the integrator on the other side of a limit
+ * (by at most an ulp of the limit). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float
+mc_pi_step_centred_unchecked_f32(mc_pi_f32_t *pi, float error, float centre,
+                                 float half, bool *at_limit)
+{
+    const float integ = pi->integrator + pi->ki_Ts * error;
+    const float u = pi->kp * error + integ;
+    if (fabsf(u - centre) < half && fabsf(integ - centre) <= half) {
+        pi->integrator = integ;
+        *at_limit = false;
+        return u;
+    }
+    return mc_pi_step_within_unchecked_f32(pi, error, centre - half,
+                                           centre + half, at_limit);
+}
+
 /* The same on the limits stored in *pi. Interrupt context: yes. */
 MC_STATIC_FORCEINLINE float mc_pi_step_unchecked_f32(mc_pi_f32_t *pi,
                                                      float error)

@@ -6,6 +6,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "mc/pi.h"
@@ -177,6 +178,51 @@ static void test_pi_unchecked(void **state)
     }
 }
 
+/* The centred step (limits centre -+ half, its common case as two
+ * |x - centre| tests) against mc_pi_step_within_unchecked_f32 on the
+ * limits it rounds to, with limits, errors and integrators that saturate
+ * about half of the time: the same output, integrator and at_limit bit
+ * for bit but where the limits' rounding decides (then within an ulp of
+ * the limit, counted); NaN for a non-finite error. */
+static void test_pi_centred(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(58);
+    mc_pi_f32_t a;
+    assert_int_equal(mc_pi_init_f32(&a, 0.5f, 200.0f, 1e-4f, -1.0f, 1.0f), MC_OK);
+    mc_pi_f32_t b = a;
+    long boundary = 0;
+    long saturated = 0;
+    for (int k = 0; k < 200000; k++) {
+        const float centre = (float)test_rng_range(&rng, -30.0, 30.0);
+        const float half = (float)test_rng_range(&rng, 1e-3, 30.0);
+        const float e = (float)test_rng_range(&rng, -50.0, 50.0);
+        bool lim_a, lim_b;
+        const float u_a = mc_pi_step_centred_unchecked_f32(&a, e, centre, half, &lim_a);
+        const float u_b =
+            mc_pi_step_within_unchecked_f32(&b, e, centre - half, centre + half, &lim_b);
+        saturated += lim_b ? 1 : 0;
+        if (memcmp(&u_a, &u_b, sizeof u_a) != 0 || lim_a != lim_b ||
+            memcmp(&a.integrator, &b.integrator, sizeof(float)) != 0) {
+            const float lim = fmaxf(fabsf(centre - half), fabsf(centre + half));
+            assert_true(fabsf(u_a - u_b) <= 2.0f * FLT_EPSILON * lim);
+            assert_true(fabsf(a.integrator - b.integrator) <= 2.0f * FLT_EPSILON * lim);
+            boundary++;
+            a = b;
+        }
+    }
+    printf("centred PI: %ld of 200000 steps saturated, %ld decided by the limits' rounding\n",
+           saturated, boundary);
+    assert_true(saturated > 40000 && saturated < 160000);
+    assert_true(boundary < 200);
+    const float bad[] = { NAN, INFINITY, -INFINITY };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        bool at_limit;
+        mc_pi_f32_t c = a;
+        assert_true(isnan(mc_pi_step_centred_unchecked_f32(&c, bad[i], 1.0f, 5.0f, &at_limit)));
+    }
+}
+
 static void assert_init_rejected(float kp, float ki, float Ts, float lo, float hi,
                                  mc_status_t expected)
 {
@@ -225,6 +271,7 @@ int main(void)
         cmocka_unit_test(test_pi_changing_limits),
         cmocka_unit_test(test_pi_non_finite_error),
         cmocka_unit_test(test_pi_unchecked),
+        cmocka_unit_test(test_pi_centred),
         cmocka_unit_test(test_pi_rejects_bad_parameters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
