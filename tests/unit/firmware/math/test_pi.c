@@ -129,6 +129,15 @@ static void test_pi_non_finite_error(void **state)
     assert_true(isnan(mc_pi_step_f32(&pi, 0.5f)));
 }
 
+/* The PI of the random-limits tests below: kp 0.5, ki 200, Ts 1e-4 s,
+ * limits -+1 until a test sets its own. */
+static mc_pi_f32_t random_limits_pi(void)
+{
+    mc_pi_f32_t pi;
+    assert_int_equal(mc_pi_init_f32(&pi, 0.5f, 200.0f, 1e-4f, -1.0f, 1.0f), MC_OK);
+    return pi;
+}
+
 /* The unchecked steps (ISR paths): for a finite error the checked step's
  * output and state, bit for bit, on the stored or on passed limits, and
  * at_limit exactly when the output sits on a limit; a NaN or infinite
@@ -138,8 +147,7 @@ static void test_pi_unchecked(void **state)
 {
     (void)state;
     test_rng_t rng = test_rng_seed(57);
-    mc_pi_f32_t checked;
-    assert_int_equal(mc_pi_init_f32(&checked, 0.5f, 200.0f, 1e-4f, -1.0f, 1.0f), MC_OK);
+    mc_pi_f32_t checked = random_limits_pi();
     mc_pi_f32_t stored = checked;
     mc_pi_f32_t passed = checked;
     for (int k = 0; k < 200000; k++) {
@@ -188,8 +196,7 @@ static void test_pi_centred(void **state)
 {
     (void)state;
     test_rng_t rng = test_rng_seed(58);
-    mc_pi_f32_t a;
-    assert_int_equal(mc_pi_init_f32(&a, 0.5f, 200.0f, 1e-4f, -1.0f, 1.0f), MC_OK);
+    mc_pi_f32_t a = random_limits_pi();
     mc_pi_f32_t b = a;
     long boundary = 0;
     long saturated = 0;
