@@ -49,6 +49,7 @@ mc_status_t mc_pll_obs_reset_f32(mc_pll_obs_f32_t *pll, float theta_e_rad,
     }
     pll->theta_e_rad = theta;
     pll->theta_comp_rad = 0.0f;
+    pll->d_theta_e_rad = 0.0f;
     pll->omega_m_rad_s = omega_m_rad_s;
     pll->omega_comp_rad_s = 0.0f;
     pll->tau_L_Nm = tau_L_Nm;

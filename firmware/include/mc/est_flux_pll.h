@@ -39,15 +39,13 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
         return MC_FAULT_NONE;
     }
     const mc_flux_front_sample_t s = mc_flux_front_update(&est->front, in);
-    const float theta_prev = mc_pll_obs_theta_e_f32(&est->pll);
     /* Electrical-torque feed-forward kt i_q over the interval. */
     const float finite = mc_pll_obs_update_f32(
         &est->pll, s.theta_obs_rad, est->front.kt_Nm_per_A * s.i_q_mean_A);
-    const float theta = mc_pll_obs_theta_e_f32(&est->pll);
     const mc_flux_front_speed_t sp = {
         .finite = finite,
-        .theta_e_rad = theta,
-        .d_theta_e_rad = mc_angle_diff_near_f32(theta, theta_prev),
+        .theta_e_rad = mc_pll_obs_theta_e_f32(&est->pll),
+        .d_theta_e_rad = mc_pll_obs_d_theta_e_f32(&est->pll),
         .omega_m_rad_s = mc_pll_obs_omega_m_f32(&est->pll),
         .tau_L_Nm = mc_pll_obs_tau_L_f32(&est->pll),
     };

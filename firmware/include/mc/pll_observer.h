@@ -73,6 +73,7 @@ typedef struct {
     float omega_m_rad_s;
     float omega_comp_rad_s; /* rounding carried into the next speed update */
     float tau_L_Nm;
+    float d_theta_e_rad; /* the angle's increment over the last step */
 } mc_pll_obs_f32_t;
 
 /* Validate (finite, positive, bandwidth bound, bounds valid), design the
@@ -114,9 +115,9 @@ MC_STATIC_FORCEINLINE float mc_pll_obs_update_f32(mc_pll_obs_f32_t *pll,
     const float eps = mc_angle_diff_near_f32(
         theta_obs_e_rad, pll->theta_e_rad + theta_pred_offset);
     float theta_comp, w_comp;
-    float theta_new =
-        mc_kahan_add_f32(pll->theta_e_rad, pll->theta_comp_rad,
-                         theta_pred_offset + pll->l1_Ts * eps, &theta_comp);
+    const float d_theta = theta_pred_offset + pll->l1_Ts * eps;
+    float theta_new = mc_kahan_add_f32(pll->theta_e_rad, pll->theta_comp_rad,
+                                       d_theta, &theta_comp);
     const float w_new = mc_kahan_add_f32(
         w, pll->omega_comp_rad_s,
         pll->Ts_over_J * (tau_e_ff_Nm - pll->tau_L_Nm) + pll->l2_Ts * eps,
@@ -130,8 +131,16 @@ MC_STATIC_FORCEINLINE float mc_pll_obs_update_f32(mc_pll_obs_f32_t *pll,
     pll->omega_m_rad_s = w_new;
     pll->omega_comp_rad_s = w_comp;
     pll->tau_L_Nm = tau_new;
+    pll->d_theta_e_rad = d_theta;
     return theta_new * 0.0f + theta_comp * 0.0f + w_new * 0.0f + w_comp * 0.0f +
            tau_new * 0.0f;
+}
+
+/* The increment the last step added to the angle (before its wrap and
+ * the compensation's rounding), rad. Interrupt context: yes. */
+static inline float mc_pll_obs_d_theta_e_f32(const mc_pll_obs_f32_t *pll)
+{
+    return pll->d_theta_e_rad;
 }
 
 /* Filtered electrical angle at t_k, (-pi, pi]. Interrupt context: yes. */
