@@ -3,7 +3,8 @@
  * "flux_pll": the gradient flux observer of paper 001 (12)-(14)
  * (mc/flux_observer.h) on the offset-corrected currents and the voltage
  * applied over the last interval, its plausibility check |rho_hat| in
- * [ratio_min, ratio_max] (MC_FAULT_ESTIMATE outside), the q current over
+ * [ratio_min, ratio_max] (MC_FAULT_ESTIMATE outside; the upper bound on
+ * the slow tick, mc_flux_front_finish), the q current over
  * the interval (trapezoid of i_q_hat at both samples) for the speed
  * estimator, and the multi-turn position from the electrical-angle
  * increments / n_p (the absolute mechanical angle is known only modulo

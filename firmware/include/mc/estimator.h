@@ -57,7 +57,8 @@ typedef struct {
     bool slow_tick;         /* a slow-loop tick (mc/app.h): the sample on
                                which an estimator re-anchors what it
                                accumulates (mc_flux_obs_update_f32's
-                               angle) */
+                               angle) and runs its plausibility tests
+                               (mc/est_flux_front.h) */
     float theta_e_hold_rad; /* angle reported while held (the
                                ALIGN vector's) */
 } mc_est_input_t;

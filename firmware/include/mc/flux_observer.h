@@ -126,11 +126,11 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
  * The angle (13): exact_angle, atan2(eta) (as the checked step); else the
  * last angle advanced by the angle between the last two eta
  * (mc_atan2_small_f32 of their cross and dot products: 18 instructions
- * on the M4 instead of atan2's 42), wrapped. Each such step adds the
- * rounding of one addition (at most 1.2e-7 rad) to the angle: a caller
- * that advances it takes an exact step every few samples (the drive: on
- * every slow tick, mc/estimator.h). Interrupt context: yes (one division,
- * no sqrt).
+ * on the M4 instead of atan2's 42), wrapped. Each such step adds its
+ * roundings, the increment's and the addition's (at most 2e-7 rad, unit
+ * test), to the angle: a caller that advances it takes an exact step
+ * every few samples (the drive: on every slow tick, mc/estimator.h).
+ * Interrupt context: yes (one division, no sqrt).
  */
 MC_STATIC_FORCEINLINE float
 mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
