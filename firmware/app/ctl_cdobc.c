@@ -4,6 +4,7 @@
 
 #include <math.h>
 
+#include "mc/angle.h"
 #include "mc/config.h"
 #include "mc/encoder_tracker.h"
 
@@ -150,9 +151,9 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
     ctl->half_cpr = (int32_t)(ctl->cpr / 2u);
     ctl->n_count = counts ? c->count_periods : 0u;
     ctl->count_rad_s =
-        counts ? 6.2831853f / ((float)cpr * (float)c->count_periods * tm->Ts_s)
+        counts ? MC_TWO_PI_F / ((float)cpr * (float)c->count_periods * tm->Ts_s)
                : 0.0f;
-    ctl->rad_per_count = counts ? 6.2831853f / (float)cpr : 0.0f;
+    ctl->rad_per_count = counts ? MC_TWO_PI_F / (float)cpr : 0.0f;
     ctl->window_s = counts ? (float)c->count_periods * tm->Ts_s : 0.0f;
     ctl->count_next = 0u;
     ctl->count_valid = 0u;

@@ -2,9 +2,9 @@
  * (mc/ctl_eeo.h). */
 #include "mc/ctl_eeo.h"
 
+#include "mc/angle.h"
 #include "mc/config.h"
 
-#define EEO_TWO_PI         6.2831853f
 #define EEO_UNITS_PER_TURN (1u << 24) /* a turn exact in float32 */
 #define EEO_FRAC_BITS_MAX  8u
 
@@ -63,7 +63,7 @@ mc_status_t mc_ctl_eeo_init(mc_ctl_eeo_t *ctl, const mc_config_t *cfg,
     if (!isfinite(g3) || !(bound > 0.0f) || !(c->g3_bound_per_kgm2 >= 0.0f) ||
         !(bound < g3) || !(fabsf(amp) <= bound) ||
         !isfinite(c->g3_omega_rad_s) ||
-        !(fabsf(c->g3_phase_rad) <= EEO_TWO_PI)) {
+        !(fabsf(c->g3_phase_rad) <= MC_TWO_PI_F)) {
         return MC_ERR_PARAM;
     }
     uint32_t f = 1u;
@@ -73,7 +73,7 @@ mc_status_t mc_ctl_eeo_init(mc_ctl_eeo_t *ctl, const mc_config_t *cfg,
     const float units_per_turn = (float)(cpr << f);
     mc_eeo_params_t p;
     mc_eeo_params_paper000(&p, tm->Ts_s, m->pole_pairs, m->J_kgm2,
-                           EEO_TWO_PI / units_per_turn);
+                           MC_TWO_PI_F / units_per_turn);
     p.g3_min_per_kgm2 = g3 - bound;
     p.g3_max_per_kgm2 = g3 + bound;
     p.kappa = c->kappa;
@@ -93,8 +93,8 @@ mc_status_t mc_ctl_eeo_init(mc_ctl_eeo_t *ctl, const mc_config_t *cfg,
     }
     ctl->cpr = cpr;
     ctl->units_per_count = 1u << f;
-    ctl->units_per_rad = units_per_turn / EEO_TWO_PI;
-    ctl->counts_per_rad = (float)cpr / EEO_TWO_PI;
+    ctl->units_per_rad = units_per_turn / MC_TWO_PI_F;
+    ctl->counts_per_rad = (float)cpr / MC_TWO_PI_F;
     ctl->omega_max_rad_s = cfg->limits.omega_max_rad_s;
     ctl->Ts_s = tm->Ts_s;
     ctl->matched = c->matched_start;
