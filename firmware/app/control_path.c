@@ -53,11 +53,12 @@ uint32_t mc_app_align(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
     if (faults == MC_FAULT_NONE) {
         faults = mc_drive_bus_fault(t->v_dc_V);
     }
+    bool linear = false;
     if (faults == MC_FAULT_NONE) {
         mc_drive_current_step(&app->drive, t);
-        mc_app_modulate(app, fr, t);
+        linear = mc_app_modulate(app, fr, t);
     }
-    faults |= mc_app_check_outputs(t);
+    faults |= mc_app_check_outputs(t, linear);
     if (faults == MC_FAULT_NONE && st == MC_ALIGN_DONE) {
         faults = mc_dispatch_estimator_start(app, app->cfg.align.angle_e_rad,
                                              &fr->in);

@@ -22,8 +22,14 @@
  * the dead-time compensation, on the bus t->v_dc_V the caller has checked
  * (mc_drive_bus_fault). Also fills the alpha/beta voltage the inverter
  * will apply. The modulator runs unchecked: a non-finite voltage gives
- * non-finite duties (mc_app_check_outputs). */
-MC_STATIC_FORCEINLINE void mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
+ * non-finite duties (mc_app_check_outputs). Returns true if the command
+ * was strictly inside the linear range (mc_svpwm_unchecked_f32): then
+ * v_alpha, v_beta are finite, so are v_d, v_q (the inverse Park of a
+ * non-finite v_d or v_q by a finite sine and cosine is not finite: a
+ * product with Inf or NaN is Inf or NaN, 0 x Inf NaN) and the duties (the
+ * dead-time compensation of finite duties by the checked currents).
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE bool mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
                                            mc_telemetry_t *t)
 {
     float s;
@@ -35,7 +41,8 @@ MC_STATIC_FORCEINLINE void mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
     float v_be;
     mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
     mc_svpwm_out_f32_t pwm;
-    mc_svpwm_unchecked_f32(v_al, v_be, t->v_dc_V, MC_SVPWM_LIMIT_CIRCLE, &pwm);
+    const bool linear = mc_svpwm_unchecked_f32(v_al, v_be, t->v_dc_V,
+                                               MC_SVPWM_LIMIT_CIRCLE, &pwm);
     t->v_alpha_V = pwm.v_alpha_V;
     t->v_beta_V = pwm.v_beta_V;
     for (uint32_t k = 0u; k < 3u; ++k) {
@@ -45,20 +52,33 @@ MC_STATIC_FORCEINLINE void mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
      * on average (mc/deadtime_comp.h) */
     const bool limited = mc_deadtime_comp_apply_f32(
         &app->drive.deadtime, t->i_abc_A, t->v_dc_V, t->duty_abc);
-    t->v_saturated = t->v_saturated || pwm.overmodulated || limited;
+    if (pwm.overmodulated || limited) { /* else the controller's flag */
+        t->v_saturated = true;
+    }
+    return linear;
 }
 
 /* Non-finite anywhere in references or outputs is a fault. (The measured
  * i_d, i_q need no test: the Park transform of a sample that passed the
  * sample check, |i| <= i_trip, with an estimator's finite sine and
  * cosine, mc/estimator.h; a sample or estimate that failed stops RUN
- * and ALIGN before this.) */
-MC_STATIC_FORCEINLINE uint32_t mc_app_check_outputs(const mc_telemetry_t *t)
+ * and ALIGN before this.) linear: mc_app_modulate returned true, which
+ * proves the voltages and the duties finite: only the references are
+ * tested (a controller may limit a NaN reference away). Interrupt
+ * context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_app_check_outputs(const mc_telemetry_t *t,
+                                                    bool linear)
 {
-    const float x[] = { t->i_d_ref_A,   t->i_q_ref_A,  t->omega_m_ref_rad_s,
-                        t->v_d_V,       t->v_q_V,      t->duty_abc[0],
-                        t->duty_abc[1], t->duty_abc[2] };
-    return mc_all_finite_f32(x, (uint32_t)(sizeof x / sizeof x[0]))
+    const float refs[] = { t->i_d_ref_A, t->i_q_ref_A, t->omega_m_ref_rad_s };
+    if (!mc_all_finite_f32(refs, (uint32_t)(sizeof refs / sizeof refs[0]))) {
+        return MC_FAULT_NONFINITE;
+    }
+    if (linear) {
+        return MC_FAULT_NONE;
+    }
+    const float outs[] = { t->v_d_V, t->v_q_V, t->duty_abc[0], t->duty_abc[1],
+                           t->duty_abc[2] };
+    return mc_all_finite_f32(outs, (uint32_t)(sizeof outs / sizeof outs[0]))
                ? MC_FAULT_NONE
                : MC_FAULT_NONFINITE;
 }
@@ -86,6 +106,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
     /* the bus once for every voltage computation of the sample */
     uint32_t faults = mc_drive_bus_fault(t->v_dc_V);
+    bool linear = false;
     if (faults == MC_FAULT_NONE) {
         faults = mc_dispatch_controller_step(app, cmd, t);
         /* Every controller's voltage under the measured-current limit. */
@@ -94,10 +115,10 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
         app->drive.v_d_last_V = t->v_d_V;
         app->drive.v_q_last_V = t->v_q_V;
         if (faults == MC_FAULT_NONE) {
-            mc_app_modulate(app, fr, t);
+            linear = mc_app_modulate(app, fr, t);
         }
     }
-    faults |= mc_app_check_outputs(t);
+    faults |= mc_app_check_outputs(t, linear);
     if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {
         faults |= MC_FAULT_NONFINITE;
     }

@@ -126,8 +126,11 @@ mc_svpwm_out_f32_t mc_svpwm_edge_f32(float v_alpha_V, float v_beta_V,
  * (out->sector is not written), for an ISR path that checks the bus
  * voltage before (finite, >= FLT_MIN) and the duties after: a non-finite
  * or overflowing command gives non-finite duties there instead of an
- * error here. Interrupt context: yes. */
-MC_STATIC_FORCEINLINE void mc_svpwm_unchecked_f32(float v_alpha_V,
+ * error here. Returns true for a command strictly inside the linear range
+ * (the inline case: the command and the duties are finite, nothing was
+ * limited), false for the others (mc_svpwm_edge_f32). Interrupt context:
+ * yes. */
+MC_STATIC_FORCEINLINE bool mc_svpwm_unchecked_f32(float v_alpha_V,
                                                   float v_beta_V, float v_dc_V,
                                                   mc_svpwm_limit_t limit,
                                                   mc_svpwm_out_f32_t *out)
@@ -146,7 +149,7 @@ MC_STATIC_FORCEINLINE void mc_svpwm_unchecked_f32(float v_alpha_V,
         out->overmodulated = o.overmodulated;
         out->v_alpha_V = o.v_alpha_V;
         out->v_beta_V = o.v_beta_V;
-        return;
+        return false;
     }
     /* Inside the circle and the hexagon (either limit): unchanged; the
      * phase spread (<= sqrt(3) |v| < v_dc) keeps every duty in (0, 1). */
@@ -155,6 +158,7 @@ MC_STATIC_FORCEINLINE void mc_svpwm_unchecked_f32(float v_alpha_V,
     out->overmodulated = false;
     out->v_alpha_V = v_alpha_V;
     out->v_beta_V = v_beta_V;
+    return true;
 }
 
 #endif /* MC_SVPWM_H */

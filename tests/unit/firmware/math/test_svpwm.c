@@ -215,8 +215,17 @@ static void test_svpwm_unchecked_matches_and_propagates(void **state)
         memset(&unchecked, 0, sizeof unchecked);
         assert_int_equal(mc_svpwm_f32(a, b, (float)c.v_dc, c.limit, &checked), MC_OK);
         unchecked.sector = checked.sector; /* not written by the variant */
-        mc_svpwm_unchecked_f32(a, b, (float)c.v_dc, c.limit, &unchecked);
+        const bool linear = mc_svpwm_unchecked_f32(a, b, (float)c.v_dc, c.limit, &unchecked);
         assert_memory_equal(&checked, &unchecked, sizeof checked);
+        /* inline exactly strictly inside the hand-over circle, and then
+         * nothing limited */
+        const double n_sq = ((double)a * a + (double)b * b) / (c.v_dc * c.v_dc);
+        if (fabs(n_sq - MC_SVPWM_INLINE_SQ) > 1e-5) {
+            assert_true(linear == (n_sq < MC_SVPWM_INLINE_SQ));
+        }
+        if (linear) {
+            assert_false(checked.overmodulated);
+        }
     }
     const float bad[][2] = { { NAN, 1.0f },       { 1.0f, NAN },      { INFINITY, 0.0f },
                              { -INFINITY, 1.0f }, { 0.0f, INFINITY }, { 1.0f, -INFINITY },
@@ -224,14 +233,15 @@ static void test_svpwm_unchecked_matches_and_propagates(void **state)
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         for (int limit = 0; limit < 2; limit++) {
             mc_svpwm_out_f32_t o;
-            mc_svpwm_unchecked_f32(bad[i][0], bad[i][1], 300.0f, (mc_svpwm_limit_t)limit, &o);
+            assert_false(
+                mc_svpwm_unchecked_f32(bad[i][0], bad[i][1], 300.0f, (mc_svpwm_limit_t)limit, &o));
             assert_false(isfinite(o.duty[0]) && isfinite(o.duty[1]) && isfinite(o.duty[2]));
         }
     }
     /* (a bus that is not finite and >= FLT_MIN is the caller's check; a
      * NaN one still reaches the duties) */
     mc_svpwm_out_f32_t o;
-    mc_svpwm_unchecked_f32(1.0f, 2.0f, NAN, MC_SVPWM_LIMIT_CIRCLE, &o);
+    assert_false(mc_svpwm_unchecked_f32(1.0f, 2.0f, NAN, MC_SVPWM_LIMIT_CIRCLE, &o));
     assert_false(isfinite(o.duty[0]) && isfinite(o.duty[1]) && isfinite(o.duty[2]));
 }
 
