@@ -25,6 +25,11 @@ hal_sim_mailbox_t *hal_sim_bound(void)
     return bound;
 }
 
+hal_sim_mailbox_t *hal_sim_fixed_mailbox(void)
+{
+    return NULL; /* engines per thread, each with its own */
+}
+
 static _Thread_local clockid_t cycle_clock = CLOCK_MONOTONIC;
 
 void hal_host_cycle_counter_thread_time(bool on)

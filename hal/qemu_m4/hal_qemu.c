@@ -29,7 +29,11 @@
 __attribute__((used)) const uint32_t qemu_m4_icount_shift =
     QEMU_M4_ICOUNT_SHIFT;
 
-hal_sim_mailbox_t *hal_qemu_mailbox;
+hal_sim_mailbox_t hal_qemu_regs;
+
+/* Whether the engine has bound the mailbox (it binds it around each call
+ * into the firmware). */
+static bool mailbox_bound;
 
 void qemu_m4_counter_init(void)
 {
@@ -41,18 +45,29 @@ void qemu_m4_counter_init(void)
 
 /* ---- Mailbox binding (hal_sim_mailbox.h): one per image ----------------- */
 
+hal_sim_mailbox_t *hal_sim_fixed_mailbox(void)
+{
+    return &hal_qemu_regs;
+}
+
+/* The accessors reach hal_qemu_regs directly: binding another mailbox is
+ * a wiring error of the image. */
 void hal_sim_bind(hal_sim_mailbox_t *mailbox)
 {
-    hal_qemu_mailbox = mailbox;
+    if (mailbox != NULL && mailbox != &hal_qemu_regs) {
+        semihost_puts("FATAL: a mailbox other than the image's bound\n");
+        semihost_exit(QEMU_M4_EXIT_FAULT);
+    }
+    mailbox_bound = (mailbox != NULL);
 }
 
 hal_sim_mailbox_t *hal_sim_bound(void)
 {
-    if (hal_qemu_mailbox == NULL) {
+    if (!mailbox_bound) {
         semihost_puts("FATAL: HAL called with no mailbox bound\n");
         semihost_exit(QEMU_M4_EXIT_FAULT);
     }
-    return hal_qemu_mailbox;
+    return &hal_qemu_regs;
 }
 
 /* ---- Cycle counter ---------------------------------------------------------

@@ -4,8 +4,7 @@
  * defines HAL_INLINE_ACCESSORS="hal_qemu_inline.h" for everything linked
  * into the images (hal/qemu_m4/CMakeLists.txt), so the HAL headers include
  * this file instead of declaring those functions. The "registers" are the
- * engine's mailbox (hal/sim_mailbox), reached through one pointer that
- * hal_sim_bind sets before the engine first calls the firmware; the cycle
+ * engine's mailbox (hal/sim_mailbox) at its fixed address; the cycle
  * counter is SysTick (qemu_m4.h), 24 bits wide.
  */
 #ifndef HAL_QEMU_INLINE_H
@@ -21,11 +20,12 @@
 #include "hal_sim_mailbox.h"
 #include "qemu_m4.h"
 
-/* hal_qemu.c: the bound mailbox. */
-extern hal_sim_mailbox_t *hal_qemu_mailbox;
+/* hal_qemu.c: the mailbox, at a link-time address (its engine uses it:
+ * hal_sim_fixed_mailbox), reached without a pointer, as registers. */
+extern hal_sim_mailbox_t hal_qemu_regs;
 
 #define HAL_SIM_ACCESSOR static inline __attribute__((always_inline))
-#define HAL_SIM_MAILBOX  hal_qemu_mailbox
+#define HAL_SIM_MAILBOX  (&hal_qemu_regs)
 #include "hal_sim_accessors.h"
 
 /* SysTick counts down from its 24-bit reload: its complement counts up,

@@ -80,6 +80,13 @@ void hal_sim_bind(hal_sim_mailbox_t *mailbox);
  * NULL). */
 hal_sim_mailbox_t *hal_sim_bound(void);
 
+/* The mailbox at a fixed address that the backend's accessors reach
+ * directly, as a board's binding reaches its peripheral registers (the
+ * QEMU image: one engine), or NULL: each engine keeps its own (host: per
+ * thread). An engine uses the fixed one when there is one.
+ * Backend-provided. */
+hal_sim_mailbox_t *hal_sim_fixed_mailbox(void);
+
 /* Zero a mailbox: duties 0.5, everything disabled, no fault input, no
  * encoder edge yet. */
 void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox);

@@ -15,6 +15,14 @@
 /* The drive's CAN bit rate (the protocol's: tools/dbc/pmsm_drive.dbc). */
 #define SIM_ENGINE_CAN_BITRATE_BPS 1000000u
 
+/* The engine's mailbox: the backend's fixed one, else its own
+ * (hal_sim_fixed_mailbox). */
+static hal_sim_mailbox_t *engine_mailbox(sim_engine_t *e)
+{
+    hal_sim_mailbox_t *fixed = hal_sim_fixed_mailbox();
+    return (fixed != NULL) ? fixed : &e->mailbox;
+}
+
 static int fail(sim_engine_t *e, int code, const char *message)
 {
     e->message = message;
@@ -91,12 +99,12 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
                                             .source_connected = true,
                                             .t_dead_s = plant_cfg->inverter.t_dead_s };
     e->plant_faults = e->plant_normal;
-    hal_sim_mailbox_reset(&e->mailbox);
-    e->mailbox.encoder_cpr = cpr;
-    e->mailbox.pwm_f_Hz = (float)f_plant;
-    e->mailbox.pwm_delay_periods =
-        half ? SIM_ENGINE_DELAY_HALF_PERIOD : SIM_ENGINE_DELAY_NEXT_PERIOD;
-    hal_sim_bind(&e->mailbox);
+    hal_sim_mailbox_t *mb = engine_mailbox(e);
+    hal_sim_mailbox_reset(mb);
+    mb->encoder_cpr = cpr;
+    mb->pwm_f_Hz = (float)f_plant;
+    mb->pwm_delay_periods = half ? SIM_ENGINE_DELAY_HALF_PERIOD : SIM_ENGINE_DELAY_NEXT_PERIOD;
+    hal_sim_bind(mb);
     const mc_status_t st = mc_app_init(&e->app, fw_cfg);
     hal_sim_bind(NULL);
     if (st != MC_OK) {
@@ -195,7 +203,7 @@ int sim_engine_add_injection(sim_engine_t *e, const sim_injection_t *inj)
     if (uses_phase(inj->kind) && inj->phase > 2u) {
         return fail(e, SIM_ENGINE_ERR_INJECTION, "injection phase must be 0..2");
     }
-    const uint32_t cpr = e->mailbox.encoder_cpr;
+    const uint32_t cpr = engine_mailbox(e)->encoder_cpr;
     if (is_encoder_kind(inj->kind) && cpr == 0u) {
         return fail(e, SIM_ENGINE_ERR_INJECTION,
                     "encoder injections need a plant encoder (sensors.encoder.lines > 0)");
@@ -298,7 +306,7 @@ static uint32_t lose_counts(const sim_injection_t *inj, sim_injection_state_t *s
  * sum of two does not overflow. */
 static uint32_t apply_injections(sim_engine_t *e, plant_measurement_t *m, bool *fault_input)
 {
-    const uint32_t cpr = e->mailbox.encoder_cpr;
+    const uint32_t cpr = engine_mailbox(e)->encoder_cpr;
     uint32_t active = 0u;
     *fault_input = false;
     for (uint32_t i = 0u; i < e->n_injections; ++i) {
@@ -391,8 +399,9 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
     s->injections_active = apply_injections(e, &s->meas, &fault_input);
 
     /* 3. HAL mailbox, fast ISR. */
-    fill_mailbox(&e->mailbox, &s->meas, fault_input);
-    hal_sim_bind(&e->mailbox);
+    hal_sim_mailbox_t *mb = engine_mailbox(e);
+    fill_mailbox(mb, &s->meas, fault_input);
+    hal_sim_bind(mb);
     /* the command the ISR uses: the one handed over before it */
     s->cmd = e->can_attached ? e->can_node.cmd : *cmd;
     mc_app_fast_isr(&e->app);
@@ -407,11 +416,11 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
     /* 4. Advance: the previous ISR's duties until the update event, this
      * ISR's after it; enable is delayed like the duties, disable is
      * immediate. */
-    const bool outputs_now = hal_sim_outputs_active(&e->mailbox);
+    const bool outputs_now = hal_sim_outputs_active(mb);
     s->outputs_applied = e->outputs_next && outputs_now;
     for (unsigned k = 0u; k < 3u; ++k) {
         s->duty_applied[k] = e->duty_next[k];
-        e->duty_next[k] = (double)e->mailbox.duty_abc[k];
+        e->duty_next[k] = (double)mb->duty_abc[k];
     }
     if (e->half_period_update) {
         plant_advance_split(&e->plant, s->duty_applied, s->outputs_applied, e->duty_next,
@@ -456,13 +465,13 @@ static mc_status_t engine_apply_config(void *ctx, const mc_config_t *cfg)
         (tlm.state != MC_STATE_IDLE && tlm.state != MC_STATE_FAULT)) {
         return MC_ERR_STATE;
     }
-    if (firmware_mismatch(cfg, (double)e->mailbox.pwm_f_Hz, e->mailbox.encoder_cpr) != NULL) {
+    hal_sim_mailbox_t *mb = engine_mailbox(e);
+    if (firmware_mismatch(cfg, (double)mb->pwm_f_Hz, mb->encoder_cpr) != NULL) {
         return MC_ERR_PARAM;
     }
     /* the drive exactly as it is (state, latched faults, history) and the
      * firmware's HAL outputs, to put back if mc_app_init refuses cfg */
     const mc_app_t before = e->app;
-    hal_sim_mailbox_t *mb = &e->mailbox;
     const float duty[3] = { mb->duty_abc[0], mb->duty_abc[1], mb->duty_abc[2] };
     const bool pwm_on = mb->pwm_outputs_enabled;
     const bool stage_on = mb->power_stage_enabled;
@@ -491,15 +500,16 @@ int sim_engine_can_attach(sim_engine_t *e, const mc_can_node_config_t *cfg)
     if (e->can_attached) {
         return fail(e, SIM_ENGINE_ERR_STATE, "a CAN node is attached already");
     }
-    hal_sim_bind(&e->mailbox);
-    const bool was_up = e->mailbox.can_up;
-    const uint32_t bitrate = e->mailbox.can_bitrate_bps;
+    hal_sim_mailbox_t *mb = engine_mailbox(e);
+    hal_sim_bind(mb);
+    const bool was_up = mb->can_up;
+    const uint32_t bitrate = mb->can_bitrate_bps;
     int code = SIM_ENGINE_OK;
     if (hal_can_init(SIM_ENGINE_CAN_BITRATE_BPS) != HAL_OK) {
         code = fail(e, SIM_ENGINE_ERR_CAN, "hal_can_init refused 1 Mbit/s");
     } else if (mc_can_node_init(&e->can_node, cfg, &e->fw_cfg, engine_apply_config, e) != MC_OK) {
-        e->mailbox.can_up = was_up; /* nothing changes */
-        e->mailbox.can_bitrate_bps = bitrate;
+        mb->can_up = was_up; /* nothing changes */
+        mb->can_bitrate_bps = bitrate;
         code = fail(e, SIM_ENGINE_ERR_CAN,
                     "CAN node configuration rejected by mc_can_node_init (node_id 0..63, "
                     "timeout_s in (0, 60])");
@@ -521,7 +531,7 @@ bool sim_engine_can_deliver(sim_engine_t *e, const hal_can_frame_t *f)
     if (!hal_can_frame_valid(f)) {
         return false;
     }
-    return hal_sim_can_deliver(&e->mailbox, f);
+    return hal_sim_can_deliver(engine_mailbox(e), f);
 }
 
 bool sim_engine_can_collect(sim_engine_t *e, hal_can_frame_t *f)
@@ -529,7 +539,7 @@ bool sim_engine_can_collect(sim_engine_t *e, hal_can_frame_t *f)
     if (e == NULL || f == NULL || !e->can_attached) {
         return false;
     }
-    return hal_sim_can_collect(&e->mailbox, f);
+    return hal_sim_can_collect(engine_mailbox(e), f);
 }
 
 void sim_engine_can_count_link_events(sim_engine_t *e, uint32_t rx_overruns, uint32_t bus_errors)
@@ -537,8 +547,9 @@ void sim_engine_can_count_link_events(sim_engine_t *e, uint32_t rx_overruns, uin
     if (e == NULL || !e->can_attached) {
         return;
     }
-    e->mailbox.can_stats.rx_overruns += rx_overruns; /* wrapping, as hal/can.h says */
-    e->mailbox.can_stats.bus_errors += bus_errors;
+    hal_can_stats_t *st = &engine_mailbox(e)->can_stats;
+    st->rx_overruns += rx_overruns; /* wrapping, as hal/can.h says */
+    st->bus_errors += bus_errors;
 }
 
 const mc_can_node_t *sim_engine_can_node(const sim_engine_t *e)

@@ -200,8 +200,9 @@ typedef struct {
 typedef struct {
     plant_t plant;
     mc_app_t app;
-    mc_config_t fw_cfg; /* the firmware configuration in force */
-    hal_sim_mailbox_t mailbox;
+    mc_config_t fw_cfg;        /* the firmware configuration in force */
+    hal_sim_mailbox_t mailbox; /* unless the backend has a fixed one
+                                  (hal_sim_fixed_mailbox) */
     bool can_attached;
     mc_can_node_t can_node;
     double duty_next[3]; /* latched by the last ISR */
