@@ -130,9 +130,14 @@ mc_status_t mc_app_get_telemetry(const mc_app_t *app, mc_telemetry_t *out)
         const uint32_t s1 = app->tlm_seq;
         atomic_signal_fence(memory_order_seq_cst);
         *out = app->tlm;
+        const uint32_t cost_cycles = app->isr_cost_cycles;
+        const uint32_t cost_max_cycles = app->isr_cost_max_cycles;
         atomic_signal_fence(memory_order_seq_cst);
         const uint32_t s2 = app->tlm_seq;
         if (s1 == s2 && (s1 & 1u) == 0u) {
+            /* the ISR keeps its costs in cycles (mc/app.h) */
+            out->isr_cost_s = (float)cost_cycles * app->s_per_cycle;
+            out->isr_cost_max_s = (float)cost_max_cycles * app->s_per_cycle;
             return MC_OK;
         }
     }

@@ -360,10 +360,9 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     /* Deadline check: counted; the limit-th consecutive overrun is a
      * fault, PWM off in this ISR. */
     const uint32_t cycles = hal_cycles_since(t_start);
-    const float cost_s = (float)cycles * app->s_per_cycle;
+    app->isr_cost_cycles = cycles; /* the costs in seconds: the reader's */
     if (cycles > app->isr_cost_max_cycles) {
         app->isr_cost_max_cycles = cycles;
-        t->isr_cost_max_s = cost_s;
     }
     if (cycles > app->period_cycles) { /* cost_s > Ts (app.c) */
         app->isr_overruns++;
@@ -379,12 +378,10 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     hal_gpio_debug_pin_set(false);
 
     t->isr_count = app->isr_count;
-    t->isr_cost_s = cost_s;
-    /* The rest is constant in RUN (no active fault; the maximum cost and
-     * the overruns written above when they change): a steady ISR still in
-     * RUN finds it in the record. */
+    /* The rest is constant in RUN (no active fault; the overruns written
+     * above when they change): a steady ISR still in RUN finds it in the
+     * record. */
     if (!steady || stopped) {
-        t->isr_cost_max_s = (float)app->isr_cost_max_cycles * app->s_per_cycle;
         t->isr_overruns = app->isr_overruns;
         t->faults_active = active;
         t->state = app->state;

@@ -115,7 +115,10 @@ typedef struct {
     float s_per_cycle;      /* 1 / hal_cycle_counter_hz() */
     uint32_t period_cycles; /* the most cycles within Ts (the deadline) */
     uint32_t isr_count;
-    uint32_t isr_cost_max_cycles; /* the costliest ISR since init */
+    uint32_t isr_cost_cycles;     /* the latest ISR's cost, and ... */
+    uint32_t isr_cost_max_cycles; /* the costliest since init: written
+                                     under tlm_seq, in seconds in the
+                                     copy (mc_app_get_telemetry) */
     uint32_t isr_overruns;        /* total */
     uint32_t overrun_streak;      /* consecutive, up to the latest ISR */
     mc_timing_t timing;           /* from the HAL's realised PWM */
