@@ -95,6 +95,19 @@ MC_STATIC_FORCEINLINE bool raise_faults(mc_app_t *app, uint32_t faults,
     return false;
 }
 
+/* raise_faults in a steady ISR that has not stopped (isr_body): in RUN
+ * nothing is latched (latch_faults latches with FAULT, only the clear in
+ * FAULT empties the latch), so every bit is new. */
+MC_STATIC_FORCEINLINE bool raise_faults_in_run(mc_app_t *app, uint32_t faults,
+                                               const mc_telemetry_t *t)
+{
+    if (faults != MC_FAULT_NONE) {
+        latch_faults(app, faults, t);
+        return true;
+    }
+    return false;
+}
+
 /* The estimate against the measured back-EMF (mc/emf_monitor.h) over the
  * interval before this sample, on the slow tick in RUN: a sensorless
  * estimate that turns while the rotor does not is LOSS_OF_LOCK; an encoder
@@ -168,7 +181,7 @@ MC_STATIC_FORCEINLINE bool state_run_steady(mc_app_t *app,
     if (stopped) {
         return true;
     }
-    return raise_faults(app, mc_app_run(app, cmd, fr, t), t);
+    return raise_faults_in_run(app, mc_app_run(app, cmd, fr, t), t);
 }
 
 /* In RUN now: a steady ISR is in RUN until it latches a fault (stopped:
@@ -326,7 +339,8 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
     active |= app->slow_faults;
     /* whether a steady ISR latched a fault (isr_in_run) */
-    bool stopped = raise_faults(app, active, t);
+    bool stopped = steady ? raise_faults_in_run(app, active, t)
+                          : raise_faults(app, active, t);
 
     /* Transitions, calibration, control. */
     if (steady) {
