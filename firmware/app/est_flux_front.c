@@ -46,7 +46,7 @@ mc_status_t mc_flux_front_init(mc_flux_front_t *f, const mc_config_t *cfg,
     }
     f->ratio_min_sq = c->ratio_min * c->ratio_min;
     f->ratio_max_sq = c->ratio_max * c->ratio_max;
-    f->n_p = (float)m->pole_pairs;
+    f->inv_n_p = 1.0f / (float)m->pole_pairs; /* >= 1: validated */
     f->kt_Nm_per_A = mc_motor_kt_f32(m);
     f->i_q_hat_prev_A = 0.0f;
     f->theta_m_rad = 0.0f;
@@ -55,7 +55,7 @@ mc_status_t mc_flux_front_init(mc_flux_front_t *f, const mc_config_t *cfg,
 
 void mc_flux_front_hold(mc_flux_front_t *f, float theta_e_rad)
 {
-    f->theta_m_rad = theta_e_rad / f->n_p;
+    f->theta_m_rad = theta_e_rad * f->inv_n_p;
 }
 
 uint32_t mc_flux_front_start(mc_flux_front_t *f, float theta_e_rad,

@@ -41,7 +41,7 @@ typedef struct {
 typedef struct {
     mc_flux_obs_f32_t obs;
     float ratio_min_sq, ratio_max_sq;
-    float n_p;
+    float inv_n_p;        /* 1 / pole pairs */
     float kt_Nm_per_A;    /* torque per A of q current */
     float i_q_hat_prev_A; /* i_q_hat at the previous sample */
     float theta_m_rad;    /* multi-turn position estimate */
@@ -193,7 +193,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_flux_front_finish(
     bool observer_angle, const mc_estimate_bounds_t *b, mc_telemetry_t *t,
     mc_est_sincos_t *sc)
 {
-    const float theta_m = f->theta_m_rad + sp->d_theta_e_rad / f->n_p;
+    const float theta_m = f->theta_m_rad + sp->d_theta_e_rad * f->inv_n_p;
     /* the common case in one chain of comparisons, each false for NaN */
     if (s->finite + sp->finite + theta_m * 0.0f == 0.0f &&
         s->rho_sq >= f->ratio_min_sq &&
