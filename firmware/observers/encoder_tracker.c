@@ -24,9 +24,22 @@ mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
         return MC_ERR_PARAM;
     }
     et->cpr = cpr;
-    et->n_p = (float)pole_pairs; /* <= 64: exact */
-    et->offset_e_rad = offset_e_rad;
+    et->pole_pairs = pole_pairs;
     et->rad_per_count = MC_TWO_PI_F / (float)cpr;
+    /* (n_p count mod cpr + e_origin) 2 pi / cpr in (-pi, pi]: less cpr
+     * where count_e + e_origin > cpr / 2 (a count on the edge rounds either
+     * way: the update's wrap takes it) */
+    const float offset_wrapped = mc_wrap_pi_f32(offset_e_rad); /* |.| <= 2 pi */
+    et->e_origin_counts =
+        0.5f * (float)pole_pairs + offset_wrapped / et->rad_per_count;
+    const float e_threshold = 0.5f * (float)cpr - et->e_origin_counts;
+    if (e_threshold < 0.0f) {
+        et->e_upper = 0u;
+    } else if (e_threshold >= (float)cpr) {
+        et->e_upper = cpr;
+    } else {
+        et->e_upper = (uint32_t)e_threshold + 1u;
+    }
     /* < cpr / 2 + 2 (step_speed_max Ts < pi): no overflow */
     et->step_max_counts =
         (uint32_t)ceilf(step_speed_max_rad_s * Ts_s / et->rad_per_count) + 1u;

@@ -53,8 +53,13 @@
 
 typedef struct {
     uint32_t cpr;
-    float n_p; /* pole pairs (exact in float) */
-    float offset_e_rad;
+    uint32_t pole_pairs;
+    /* the electrical angle in counts: count_e = n_p count mod cpr, less
+     * cpr from e_upper on, plus e_origin = n_p / 2 + offset / (2 pi /
+     * cpr), with the offset wrapped to (-pi, pi]: within (-cpr/2, cpr/2]
+     * up to rounding */
+    float e_origin_counts;
+    uint32_t e_upper;
     float rad_per_count;
     uint32_t step_max_counts; /* largest plausible count step */
     float kp_per_s;           /* 2 w_pll */
@@ -103,18 +108,25 @@ mc_status_t mc_encoder_tracker_update_f32(mc_encoder_tracker_f32_t *et,
                                           mc_encoder_estimate_t *out);
 
 /* mc_encoder_tracker_update_f32 inline, for the estimator's step. The
- * wraps are mc_wrap_pi_f32's results (mc_wrap_pi_near_f32: the measured
- * angle is in (0, 2 pi), the PLL's error a difference of two wrapped
- * angles). Interrupt context: yes (bounded). */
+ * angles are reduced in integers, so that they are in [-pi, pi] up to a
+ * rounding, then wrapped by mc_wrap_pi_near_f32 (mc_wrap_pi_f32's
+ * results): the measured angle (count + 1/2) 2 pi / cpr, from the count
+ * less cpr in the upper half of the turn; the electrical angle, from n_p
+ * count mod cpr (n_p cpr <= 2^29: exact) and the offset (see e_origin);
+ * the PLL's error, a difference of two wrapped angles. Interrupt context:
+ * yes (bounded). */
 MC_STATIC_FORCEINLINE mc_status_t mc_encoder_tracker_update_inline_f32(
     mc_encoder_tracker_f32_t *et, uint32_t count, mc_encoder_estimate_t *out)
 {
     if (count >= et->cpr) {
         return MC_ERR_RANGE;
     }
-    /* Centre of the count's interval, single turn, wrapped to (-pi, pi]. */
-    const float theta_meas =
-        mc_wrap_pi_near_f32(((float)count + 0.5f) * et->rad_per_count);
+    /* Centre of the count's interval, single turn, in [-pi, pi] (up to
+     * the product's rounding): the upper half of the turn from -cpr. */
+    const int32_t count_c = (2u * count + 1u > et->cpr)
+                                ? (int32_t)count - (int32_t)et->cpr
+                                : (int32_t)count;
+    const float theta_meas = ((float)count_c + 0.5f) * et->rad_per_count;
     if (!et->primed) {
         et->primed = true;
         et->last_count = count;
@@ -148,8 +160,14 @@ MC_STATIC_FORCEINLINE mc_status_t mc_encoder_tracker_update_inline_f32(
 
     out->theta_m_rad = (mc_encoder_counts_to_f32(et->position_counts) + 0.5f) *
                        et->rad_per_count;
-    out->theta_e_rad =
-        mc_wrap_pi_near_f32(et->n_p * theta_meas + et->offset_e_rad);
+    /* the electrical angle of the count's centre, n_p (count + 1/2) 2 pi
+     * / cpr + offset, its whole turns taken off in integers */
+    const uint32_t count_e = (count * et->pole_pairs) % et->cpr;
+    const int32_t count_e_c = (count_e >= et->e_upper)
+                                  ? (int32_t)count_e - (int32_t)et->cpr
+                                  : (int32_t)count_e;
+    out->theta_e_rad = mc_wrap_pi_near_f32(
+        ((float)count_e_c + et->e_origin_counts) * et->rad_per_count);
     out->omega_m_rad_s = et->omega_hat_rad_s;
     return MC_OK;
 }

@@ -62,6 +62,44 @@ static void test_encoder_tracker(void **state)
         MC_ERR_PARAM);
 }
 
+/* The electrical angle of every count, the whole turn in steps of one
+ * count, for odd and even cpr, pole pairs up to the maximum and offsets
+ * across [-2 pi, 2 pi]: n_p (count + 1/2) 2 pi / cpr + offset within
+ * 1e-6 rad (the integer reduction leaves only the roundings of the sum
+ * and the product, each below 4e-7 rad at cpr 10000), in (-pi, pi] (in
+ * float). */
+static void test_encoder_tracker_every_count(void **state)
+{
+    (void)state;
+    const uint32_t cprs[] = { 10000u, 4095u };
+    const uint32_t pole_pairs[] = { 1u, 3u, 7u, 64u };
+    const double offsets[] = { -MC_TEST_TWO_PI, -3.1, -0.4, 0.0, 0.4, MC_TEST_PI, 6.0 };
+    for (size_t i = 0; i < sizeof cprs / sizeof cprs[0]; ++i) {
+        for (size_t j = 0; j < sizeof pole_pairs / sizeof pole_pairs[0]; ++j) {
+            for (size_t k = 0; k < sizeof offsets / sizeof offsets[0]; ++k) {
+                const uint32_t cpr = cprs[i];
+                mc_encoder_tracker_f32_t et;
+                assert_int_equal(mc_encoder_tracker_init_f32(&et, cpr, pole_pairs[j],
+                                                             (float)offsets[k], 100.0f,
+                                                             STEP_SPEED_MAX, (float)TS),
+                                 MC_OK);
+                const double offset = (double)(float)offsets[k];
+                for (uint32_t c = 0u; c <= cpr; ++c) { /* back to count 0 */
+                    const uint32_t count = c % cpr;
+                    mc_encoder_estimate_t est;
+                    assert_int_equal(mc_encoder_tracker_update_f32(&et, count, &est), MC_OK);
+                    const double th_e =
+                        pole_pairs[j] * (count + 0.5) * MC_TEST_TWO_PI / cpr + offset;
+                    const double d = remainder((double)est.theta_e_rad - th_e, MC_TEST_TWO_PI);
+                    assert_true(fabs(d) < 1e-6);
+                    /* (-pi, pi] in float: MC_PI_F is the float nearest pi, above it */
+                    assert_true(est.theta_e_rad <= MC_PI_F && est.theta_e_rad > -MC_PI_F);
+                }
+            }
+        }
+    }
+}
+
 /* Parameter ranges: cpr in [4, 2^23] (the largest cpr for which count + 0.5
  * is exact in a float), pole pairs in [1, 64], |offset| <= 2 pi, w_pll Ts <= 0.5,
  * non-finite values. */
@@ -252,6 +290,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_encoder_tracker),
+        cmocka_unit_test(test_encoder_tracker_every_count),
         cmocka_unit_test(test_encoder_tracker_ranges),
         cmocka_unit_test(test_encoder_tracker_cpr_max),
         cmocka_unit_test(test_encoder_tracker_count_jump),
