@@ -5,6 +5,7 @@
 #include <stdatomic.h>
 
 #include "mc/app.h"
+#include "mc/compiler.h"
 
 /* The sample of this ISR as the estimators and the control path see it
  * (Clarke once per ISR) and sin / cos of the controller's angle (from the
@@ -50,14 +51,14 @@ static inline uint32_t mc_app_run_key(bool enable, bool comm_lost,
  * odd and returns the record, end makes it even again (the reader's side:
  * mc_app_get_telemetry). Used by init and by the fast ISR. Interrupt
  * context: yes. */
-static inline mc_telemetry_t *mc_app_tlm_begin(mc_app_t *app)
+MC_STATIC_FORCEINLINE mc_telemetry_t *mc_app_tlm_begin(mc_app_t *app)
 {
     app->tlm_seq = app->tlm_seq + 1u; /* odd: writing */
     atomic_signal_fence(memory_order_seq_cst);
     return &app->tlm;
 }
 
-static inline void mc_app_tlm_end(mc_app_t *app)
+MC_STATIC_FORCEINLINE void mc_app_tlm_end(mc_app_t *app)
 {
     atomic_signal_fence(memory_order_seq_cst);
     app->tlm_seq = app->tlm_seq + 1u; /* even: complete */

@@ -14,17 +14,20 @@
 #ifndef MC_PARK_H
 #define MC_PARK_H
 
+#include "mc/compiler.h"
+
 /* Park: rotate (alpha, beta) by -theta_e. Interrupt context: yes. */
-static inline void mc_park_f32(float alpha, float beta, float sin_theta,
-                               float cos_theta, float *d, float *q)
+MC_STATIC_FORCEINLINE void mc_park_f32(float alpha, float beta, float sin_theta,
+                                       float cos_theta, float *d, float *q)
 {
     *d = alpha * cos_theta + beta * sin_theta;
     *q = -alpha * sin_theta + beta * cos_theta;
 }
 
 /* Inverse Park: rotate (d, q) by +theta_e. Interrupt context: yes. */
-static inline void mc_inv_park_f32(float d, float q, float sin_theta,
-                                   float cos_theta, float *alpha, float *beta)
+MC_STATIC_FORCEINLINE void mc_inv_park_f32(float d, float q, float sin_theta,
+                                           float cos_theta, float *alpha,
+                                           float *beta)
 {
     *alpha = d * cos_theta - q * sin_theta;
     *beta = d * sin_theta + q * cos_theta;
