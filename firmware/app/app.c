@@ -1,5 +1,6 @@
 /* Application init and the command / telemetry exchange with the fast ISR
  * (see mc/app.h). */
+#include <math.h>
 #include <stdatomic.h>
 
 #include "app_internal.h"
@@ -66,7 +67,8 @@ mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
     app->enable_armed = true;
     app->cmd_buf[0].mode = MC_MODE_CURRENT;
     app->cmd_buf[1].mode = MC_MODE_CURRENT;
-    app->cmd_run_key[0] = mc_app_run_key(false, false, MC_MODE_CURRENT);
+    app->cmd_run_key[0] =
+        mc_app_run_key(false, false, false, false, MC_MODE_CURRENT);
     app->cmd_run_key[1] = app->cmd_run_key[0];
     app->steady_key = MC_APP_NO_RUN_KEY;
     *mc_app_tlm_begin(app) = (mc_telemetry_t){
@@ -89,8 +91,10 @@ mc_status_t mc_app_set_command(mc_app_t *app, const mc_command_t *cmd)
      * the reverse, so it always copies a complete command. */
     const uint32_t next = (app->cmd_index + 1u) & 1u;
     app->cmd_buf[next] = *cmd;
-    app->cmd_run_key[next] =
-        mc_app_run_key(cmd->enable, cmd->comm_lost, cmd->mode);
+    app->cmd_run_key[next] = mc_app_run_key(
+        cmd->enable, cmd->comm_lost, cmd->clear_fault,
+        cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad),
+        cmd->mode);
     atomic_signal_fence(memory_order_seq_cst);
     app->cmd_index = next;
     return MC_OK;

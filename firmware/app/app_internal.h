@@ -37,13 +37,20 @@ static inline const mc_command_t *mc_app_command(const mc_app_t *app)
     return &app->cmd_buf[mc_app_command_slot(app)];
 }
 
-/* A command's enable, communication loss and mode in one word, so the
- * fast ISR tests them in one comparison; no command's is
- * MC_APP_NO_RUN_KEY (bits 2 to 7 are 0). Interrupt context: yes. */
+/* A command's enable, communication loss, clear request, a non-finite
+ * position reference in MC_MODE_POSITION (ref_nonfinite) and mode in one
+ * word, so the fast ISR tests them in one comparison: a steady ISR
+ * (mc_app_fast_isr) continues a command with the same clear request as
+ * the general ISR before it (which took its edge) and a finite position
+ * reference (the general ISR's mc_app_run reports one that is not). No
+ * command's is MC_APP_NO_RUN_KEY (bits 4 to 7 are 0). Interrupt context:
+ * yes. */
 static inline uint32_t mc_app_run_key(bool enable, bool comm_lost,
+                                      bool clear_fault, bool ref_nonfinite,
                                       mc_mode_t mode)
 {
     return (uint32_t)enable | ((uint32_t)comm_lost << 1u) |
+           ((uint32_t)clear_fault << 2u) | ((uint32_t)ref_nonfinite << 3u) |
            ((uint32_t)mode << 8u);
 }
 

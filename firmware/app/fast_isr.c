@@ -170,18 +170,18 @@ static uint32_t calibrate(mc_app_t *app, const float i_raw_A[3])
 }
 
 /* The RUN case of a steady ISR (mc_app_fast_isr: RUN, enabled, the same
- * mode): the control path unless this ISR's protection stopped RUN
- * (stopped); true if RUN stopped here or before. */
+ * mode and clear request, a finite position reference): the control path
+ * unless this ISR's protection stopped RUN (stopped); true if RUN stopped
+ * here or before. */
 MC_STATIC_FORCEINLINE bool state_run_steady(mc_app_t *app,
                                             const mc_command_t *cmd,
                                             const mc_frame_t *fr,
                                             mc_telemetry_t *t, bool stopped)
 {
-    app->clear_prev = cmd->clear_fault;
     if (stopped) {
         return true;
     }
-    return raise_faults_in_run(app, mc_app_run(app, cmd, fr, t), t);
+    return raise_faults_in_run(app, mc_app_run(app, cmd, fr, t, false), t);
 }
 
 /* In RUN now: a steady ISR is in RUN until it latches a fault (stopped:
@@ -234,7 +234,7 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
             if (cmd->mode != app->mode) {
                 mc_app_change_mode(app, cmd, t);
             }
-            raise_faults(app, mc_app_run(app, cmd, fr, t), t);
+            raise_faults(app, mc_app_run(app, cmd, fr, t, true), t);
         }
         break;
     case MC_STATE_FAULT:
@@ -419,8 +419,10 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     const bool run_continues =
         isr_in_run(app, steady, stopped) && app->overrun_streak == 0u;
     if (!steady) {
-        app->steady_key = run_continues ? mc_app_run_key(true, false, app->mode)
-                                        : MC_APP_NO_RUN_KEY;
+        app->steady_key = run_continues
+                              ? mc_app_run_key(true, false, cmd->clear_fault,
+                                               false, app->mode)
+                              : MC_APP_NO_RUN_KEY;
     } else if (!run_continues) { /* else the key stays: the same mode */
         app->steady_key = MC_APP_NO_RUN_KEY;
     }

@@ -96,12 +96,15 @@ static inline void mc_app_change_mode(mc_app_t *app, const mc_command_t *cmd,
 }
 
 /* One RUN sample of the control path in the command's mode (after
- * mc_app_change_mode): the controller, the modulator, the output checks.
- * Fault bits. Interrupt context: yes. */
+ * mc_app_change_mode): the controller, the modulator, the output checks;
+ * check_position_ref: also the command's position reference in
+ * MC_MODE_POSITION (a steady ISR's is finite: mc_app_run_key). Fault
+ * bits. Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
                                           const mc_command_t *cmd,
                                           const mc_frame_t *fr,
-                                          mc_telemetry_t *t)
+                                          mc_telemetry_t *t,
+                                          bool check_position_ref)
 {
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
     /* the bus once for every voltage computation of the sample */
@@ -119,7 +122,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
         }
     }
     faults |= mc_app_check_outputs(t, linear);
-    if (cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad)) {
+    if (check_position_ref && cmd->mode == MC_MODE_POSITION &&
+        !isfinite(cmd->theta_m_ref_rad)) {
         faults |= MC_FAULT_NONFINITE;
     }
     return faults;

@@ -307,6 +307,33 @@ static void test_nan_reference_faults(void **state)
     assert_false(g_hal.outputs_enabled);
 }
 
+/* A non-finite position reference faults in the ISR that first sees it in
+ * MC_MODE_POSITION, also after steady ISRs (mc_app_run_key sends that
+ * ISR through the general path, which tests it); in the other modes the
+ * field is unused and does not fault. */
+static void test_nan_position_reference_faults_in_position_mode(void **state)
+{
+    (void)state;
+    go_to_run();
+    cmd.mode = MC_MODE_SPEED;
+    cmd.theta_m_ref_rad = NAN;
+    for (int k = 0; k < 25; ++k) { /* steady ones, and slow ticks */
+        isr();
+    }
+    assert_int_equal(tlm().state, MC_STATE_RUN);
+    cmd.mode = MC_MODE_POSITION;
+    cmd.theta_m_ref_rad = 0.2f;
+    for (int k = 0; k < 25; ++k) {
+        isr();
+    }
+    assert_int_equal(tlm().state, MC_STATE_RUN);
+    cmd.theta_m_ref_rad = INFINITY;
+    isr();
+    assert_int_equal(tlm().state, MC_STATE_FAULT);
+    assert_int_equal(tlm().faults_latched, MC_FAULT_NONFINITE);
+    assert_false(g_hal.outputs_enabled);
+}
+
 /* Current references are limited to the i_max circle. */
 static void test_current_reference_limited(void **state)
 {
@@ -597,6 +624,7 @@ int main(void)
         cmocka_unit_test_setup(test_held_clear_does_not_clear, setup),
         cmocka_unit_test_setup(test_overrun_limit_counts_consecutive, setup),
         cmocka_unit_test_setup(test_nan_reference_faults, setup),
+        cmocka_unit_test_setup(test_nan_position_reference_faults_in_position_mode, setup),
         cmocka_unit_test_setup(test_current_reference_limited, setup),
         cmocka_unit_test_setup(test_command_mode_validated, setup),
         cmocka_unit_test_setup(test_slow_loop_decimation_reported, setup),
