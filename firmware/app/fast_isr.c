@@ -384,7 +384,8 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     if (cycles > app->isr_cost_max_cycles) {
         app->isr_cost_max_cycles = cycles;
     }
-    if (cycles > app->period_cycles) { /* cost_s > Ts (app.c) */
+    const bool overran = cycles > app->period_cycles; /* cost > Ts */
+    if (overran) {
         app->isr_overruns++;
         t->isr_overruns = app->isr_overruns;
         app->overrun_streak++;
@@ -392,7 +393,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
             active |= MC_FAULT_ISR_OVERRUN;
             stopped = raise_faults(app, MC_FAULT_ISR_OVERRUN, t) || stopped;
         }
-    } else {
+    } else if (!steady) { /* a steady ISR's streak is 0 (isr_body) */
         app->overrun_streak = 0u;
     }
     hal_gpio_debug_pin_set(false);
@@ -416,8 +417,8 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
         }
     }
     mc_app_tlm_end(app);
-    const bool run_continues =
-        isr_in_run(app, steady, stopped) && app->overrun_streak == 0u;
+    const bool no_streak = steady ? !overran : (app->overrun_streak == 0u);
+    const bool run_continues = isr_in_run(app, steady, stopped) && no_streak;
     if (!steady) {
         app->steady_key = run_continues
                               ? mc_app_run_key(true, false, cmd->clear_fault,
