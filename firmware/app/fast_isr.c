@@ -249,10 +249,11 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
 }
 
 /* The ISR's body. steady, a constant in each of the three instances:
- * this ISR is in RUN after a RUN ISR, in the same mode, enabled, without
- * a communication loss or an overrun streak (the last ISR's steady_key
- * equals the command's run key): the common case, whose two instances
- * (steady_slow, also a constant: with the slow tick or without) the
+ * this ISR is in RUN after a RUN ISR, in the same mode, enabled, with the
+ * same clear request and a finite position reference, without a
+ * communication loss or an overrun streak (the last ISR's steady_key
+ * equals the command's run key, mc_app_run_key): the common case, whose two
+ * instances (steady_slow, also a constant: with the slow tick or without) the
  * compiler strips of everything else; the general instance runs every
  * ISR with the same code. Each instance inlines the whole control path
  * (about 12 kB of flash each at -Os): the slow tick's own instance saves
@@ -429,8 +430,8 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
 }
 
-/* The two instances, out of line: each a tail call from mc_app_fast_isr,
- * so their frames do not add up. */
+/* The three instances, out of line: each a tail call from
+ * mc_app_fast_isr, so their frames do not add up. */
 static __attribute__((noinline)) void
 isr_steady(mc_app_t *app, const mc_command_t *cmd, uint32_t t_start)
 {
