@@ -1,6 +1,5 @@
 /* Application init and the command / telemetry exchange with the fast ISR
  * (see mc/app.h). */
-#include <math.h>
 #include <stdatomic.h>
 
 #include "app_internal.h"
@@ -91,10 +90,9 @@ mc_status_t mc_app_set_command(mc_app_t *app, const mc_command_t *cmd)
      * the reverse, so it always copies a complete command. */
     const uint32_t next = (app->cmd_index + 1u) & 1u;
     app->cmd_buf[next] = *cmd;
-    app->cmd_run_key[next] = mc_app_run_key(
-        cmd->enable, cmd->comm_lost, cmd->clear_fault,
-        cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad),
-        cmd->mode);
+    app->cmd_run_key[next] =
+        mc_app_run_key(cmd->enable, cmd->comm_lost, cmd->clear_fault,
+                       mc_app_position_ref_nonfinite(cmd), cmd->mode);
     atomic_signal_fence(memory_order_seq_cst);
     app->cmd_index = next;
     return MC_OK;

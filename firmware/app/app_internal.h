@@ -2,6 +2,7 @@
 #ifndef MC_APP_INTERNAL_H
 #define MC_APP_INTERNAL_H
 
+#include <math.h>
 #include <stdatomic.h>
 
 #include "mc/app.h"
@@ -35,6 +36,14 @@ static inline uint32_t mc_app_command_slot(const mc_app_t *app)
 static inline const mc_command_t *mc_app_command(const mc_app_t *app)
 {
     return &app->cmd_buf[mc_app_command_slot(app)];
+}
+
+/* The command's position reference is not finite in MC_MODE_POSITION
+ * (the mode that uses it): a fault (mc_app_run) and a bit of the run key
+ * (mc_app_run_key). Interrupt context: yes. */
+static inline bool mc_app_position_ref_nonfinite(const mc_command_t *cmd)
+{
+    return cmd->mode == MC_MODE_POSITION && !isfinite(cmd->theta_m_ref_rad);
 }
 
 /* A command's enable, communication loss, clear request, a non-finite

@@ -122,8 +122,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
         }
     }
     faults |= mc_app_check_outputs(t, linear);
-    if (check_position_ref && cmd->mode == MC_MODE_POSITION &&
-        !isfinite(cmd->theta_m_ref_rad)) {
+    if (check_position_ref && mc_app_position_ref_nonfinite(cmd)) {
         faults |= MC_FAULT_NONFINITE;
     }
     return faults;
