@@ -21,6 +21,7 @@ const mc_param_t mc_ctl_cdobc_params[] = {
     MC_PARAM(mc_ctl_cdobc_config_t, harm_zeta, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, sensor_zeta, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, ctl_pole_rad_s, MC_PARAM_F32),
+    MC_PARAM(mc_ctl_cdobc_config_t, ref_pole_rad_s, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, obs_pole_rad_s, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, kp_d_V_A, MC_PARAM_F32),
     MC_PARAM(mc_ctl_cdobc_config_t, ki_d_V_As, MC_PARAM_F32),
@@ -53,6 +54,7 @@ void mc_ctl_cdobc_config_default(mc_ctl_cdobc_config_t *c)
         .harm_zeta = 0.03f,
         .sensor_zeta = 0.5f,
         .ctl_pole_rad_s = 200.0f,
+        .ref_pole_rad_s = 0.0f,
         .obs_pole_rad_s = 520.0f,
         .kp_d_V_A = 120.0f,
         .ki_d_V_As = 240.0f,
@@ -135,6 +137,14 @@ mc_status_t mc_ctl_cdobc_init(mc_ctl_cdobc_t *ctl, const mc_config_t *cfg,
                                c->pid_kd_V_s2, tm->Ts_s, c_qd, c->v_max_V);
     if (st != MC_OK) {
         return st;
+    }
+    ctl->use_prefilter = c->ref_pole_rad_s != 0.0f;
+    if (ctl->use_prefilter) {
+        st = mc_cdobc_prefilter_init_f32(&ctl->prefilter, tm->Ts_s,
+                                         c->ctl_pole_rad_s, c->ref_pole_rad_s);
+        if (st != MC_OK) {
+            return st;
+        }
     }
     ctl->p = p;
     ctl->use_pid = c->pid;

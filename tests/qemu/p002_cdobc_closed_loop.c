@@ -14,7 +14,8 @@
  * PLANT_SUBSTEPS_FAST; CDOBC (the controller's defaults: 6th electrical +
  * 32nd mechanical harmonic models, polynomial N = 2, the observer's speed
  * from the count over 4 periods, designed at init for 500 rpm) with the
- * observer poles at -1000 rad/s; no load. Speed reference 0 until
+ * observer poles at -1000 rad/s and the reference prefilter to -230 rad/s;
+ * no load. Speed reference 0 until
  * T_RUN = 25.6 ms (the end of the offset calibration, the scenario's
  * time_offset_s; checked against the first RUN sample), then 500 rpm; end
  * at T_RUN + QEMU_P002_T_S.
@@ -109,6 +110,7 @@ static void firmware_paper002(const plant_config_t *pc, mc_config_t *fc)
     fc->controller = MC_CONTROLLER_CDOBC;
     fc->estimator = MC_ESTIMATOR_ENCODER;
     fc->cdobc.obs_pole_rad_s = 1000.0f;
+    fc->cdobc.ref_pole_rad_s = 230.0f;
     fc->foc_pi.speed_bandwidth_rad_s = 200.0f;
     fc->deadtime.compensation = false;
     fc->emf_check.ratio_high = 10.0f;

@@ -473,6 +473,70 @@ mc_cdobc_step_core_f32(mc_cdobc_f32_t *ctl, float omega_m_rad_s,
     return true;
 }
 
+/* ---- reference prefilter (cdobc_prefilter.c), float32 ------------------ */
+
+/*
+ * Two-degree-of-freedom option: a prefilter on omega* that replaces the
+ * closed loop's reference poles by faster ones, leaving the feedback (and
+ * so the disturbance rejection the controller poles set) unchanged.
+ * Nominally omega* reaches omega through T(z) = k1 N(z) / ((z - a)^2 z)
+ * (a = exp(-ctl_pole Ts)): the observer is driven by -omega and v, not by
+ * omega*, so its poles do not appear (separation), and N(z) is the plant's
+ * numerator, which state feedback does not move. The prefilter
+ *   F(z) = ((1 - a_m) / (1 - a))^2 (z - a)^2 / (z - a_m)^2,
+ *   a_m = exp(-ref_pole Ts),
+ * makes F T the closed loop of a controller with its poles at -ref_pole:
+ * a step of omega* settles like that design (double pole at -ref_pole)
+ * while loads and harmonics meet the -ctl_pole design. F(1) = 1. Written
+ * as omega*_f = omega* + d with F - 1 = (1 - z^-1) ((g - 1) + c0 z^-1) /
+ * (1 - a_m z^-1)^2, g = ((1 - a_m) / (1 - a))^2, c0 = a_m^2 - g a^2, fed
+ * by the reference's increments: a constant omega* gives d -> 0 and
+ * omega*_f = omega* exactly, whatever the coefficients' rounding. A step
+ * of omega* first commands g times the plain law's k1 step (1.32 for
+ * -230 against -200). The PID baseline takes omega* unfiltered
+ * (test_cdobc_prefilter.c).
+ */
+typedef struct {
+    float g_minus_1; /* g - 1 */
+    float c0;        /* a_m^2 - g a^2 */
+    float two_a_m;   /* 2 a_m */
+    float a_m_sq;    /* a_m^2 */
+    float ref_prev;  /* omega* of the last step, rad/s */
+    float s1, s2;    /* transposed direct form states of d, rad/s */
+} mc_cdobc_prefilter_f32_t;
+
+/* Design for the controller's poles at -ctl_pole_rad_s and the
+ * reference's at -ref_pole_rad_s, period Ts_s (both poles > 0, ref_pole Ts
+ * and ctl_pole Ts <= 1; double at design time); state at rest at 0.
+ * MC_ERR_NONFINITE / MC_ERR_PARAM (*f untouched). Interrupt context: no. */
+mc_status_t mc_cdobc_prefilter_init_f32(mc_cdobc_prefilter_f32_t *f, float Ts_s,
+                                        float ctl_pole_rad_s,
+                                        float ref_pole_rad_s);
+
+/* At rest at omega_ref_rad_s (its next step is the change from there).
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void
+mc_cdobc_prefilter_reset_f32(mc_cdobc_prefilter_f32_t *f, float omega_ref_rad_s)
+{
+    f->ref_prev = omega_ref_rad_s;
+    f->s1 = 0.0f;
+    f->s2 = 0.0f;
+}
+
+/* One period: omega*_f. Unchecked (a non-finite omega* propagates into
+ * the output and the state, for the caller's one finiteness test; a
+ * restart resets). Interrupt context: yes (no division). */
+MC_STATIC_FORCEINLINE float
+mc_cdobc_prefilter_step_f32(mc_cdobc_prefilter_f32_t *f, float omega_ref_rad_s)
+{
+    const float dx = omega_ref_rad_s - f->ref_prev;
+    const float d = f->g_minus_1 * dx + f->s1;
+    f->s1 = f->c0 * dx + f->two_a_m * d + f->s2;
+    f->s2 = -f->a_m_sq * d;
+    f->ref_prev = omega_ref_rad_s;
+    return omega_ref_rad_s + d;
+}
+
 /* ---- noncascade PID baseline (cdobc_pid.c), float32 -------------------- */
 
 typedef struct {

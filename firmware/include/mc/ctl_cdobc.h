@@ -52,7 +52,12 @@
  * t->omega_m_rad_s. Speed reference: the shared setpoint stage
  * (mc/outer_loop.h) on its slow tick, so position mode works through its P
  * loop; current mode runs the d/q current loop (bumpless both ways: the
- * regulator restarts at the measured speed).
+ * regulator restarts at the measured speed). With ref_pole_rad_s > 0 the
+ * observer law takes omega* through the reference prefilter
+ * (mc_cdobc_prefilter_f32_t: a step answered as by controller poles at
+ * -ref_pole, disturbances by those at -ctl_pole), at rest at the measured
+ * speed on each (re)start; the PID baseline and the redesign take omega*
+ * unfiltered.
  *
  * Delay: the block models exactly one period between the computation and
  * the start of the hold (voltage computed at t_k held over (t_k + Ts,
@@ -107,6 +112,9 @@ typedef struct {
     float sensor_zeta;        /* robust: damping of the 1st and 2nd
                                  electrical pairs (0.5) */
     float ctl_pole_rad_s;     /* controller poles at -this (200) */
+    float ref_pole_rad_s;     /* > 0: the reference prefilter's double
+                                 pole at -this (mc_cdobc_prefilter_f32_t);
+                                 0: none (0, the paper's law) */
     float obs_pole_rad_s;     /* observer poles at -this (520) */
     float kp_d_V_A;           /* d-axis PI (120) */
     float ki_d_V_As;          /* (240) */
@@ -130,6 +138,8 @@ typedef struct {
                                serves the PID variant) */
     mc_cdobc_pid_f32_t pid; /* baseline */
     mc_cdobc_params_t p;    /* for the redesign */
+    mc_cdobc_prefilter_f32_t prefilter; /* of omega* (use_prefilter) */
+    bool use_prefilter;
     bool use_pid;
     bool restart;        /* reset at the next step */
     float redesign_tol;  /* 0: fixed design */
@@ -249,6 +259,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
             mc_cdobc_pid_reset_f32(&ctl->pid, w) != MC_OK) {
             return MC_FAULT_NONFINITE;
         }
+        /* the reference's change from the measured speed on is filtered */
+        mc_cdobc_prefilter_reset_f32(&ctl->prefilter, w);
         ctl->u_c_prev_V = 0.0f;
         ctl->restart = false;
     }
@@ -281,7 +293,12 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_cdobc_voltages(mc_ctl_cdobc_t *ctl,
     } else {
         /* the step inline (d_hat not needed); nothing changes on a
          * non-finite input or result */
-        if (!mc_cdobc_step_core_f32(&ctl->law, w_obs, w_ref, t->i_d_A, &out)) {
+        const float w_ref_law =
+            ctl->use_prefilter
+                ? mc_cdobc_prefilter_step_f32(&ctl->prefilter, w_ref)
+                : w_ref;
+        if (!mc_cdobc_step_core_f32(&ctl->law, w_obs, w_ref_law, t->i_d_A,
+                                    &out)) {
             return MC_FAULT_NONFINITE;
         }
         ctl->u_c_prev_V = out.v_q_V - ctl->law.v_cur;

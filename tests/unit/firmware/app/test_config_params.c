@@ -338,9 +338,9 @@ static void test_every_float_is_checked(void **state)
     }
     /* motor 6, timing 4, limits 2, protection 17, current 2, deadtime 3, position 1,
      * align 8, flux_obs 3, emf_check 7, foc_pi 1, idapbc 3, encoder 2,
-     * flux_ii 2, flux_pll 1, eeo 10, cdobc 13 (the float members of
+     * flux_ii 2, flux_pll 1, eeo 10, cdobc 14 (the float members of
      * mc/config.h and its blocks). */
-    assert_int_equal(n_f32, 85u);
+    assert_int_equal(n_f32, 86u);
 }
 
 int main(void)

@@ -659,6 +659,7 @@ static const field_case_t field_cases[] = {
     { "cdobc.harm_zeta", CTX_CDOBC, 0.2 },
     { "cdobc.sensor_zeta", CTX_CDOBC, 0.3 },
     { "cdobc.ctl_pole_rad_s", CTX_CDOBC, 150 },
+    { "cdobc.ref_pole_rad_s", CTX_CDOBC, 250 },
     { "cdobc.obs_pole_rad_s", CTX_CDOBC, 600 },
     { "cdobc.kp_d_V_A", CTX_CDOBC, 60 },
     { "cdobc.ki_d_V_As", CTX_CDOBC, 120 },
