@@ -102,19 +102,29 @@ typedef struct {
 } mc_flux_front_speed_t;
 
 /* Running: one observer step (unchecked: mc_flux_front_finish checks the
- * sample once), its angle, |rho_hat|^2 and the q current over the interval
- * (trapezoid of i_q_hat at both samples). Interrupt context: yes. */
-MC_STATIC_FORCEINLINE mc_flux_front_sample_t
-mc_flux_front_update(mc_flux_front_t *f, const mc_est_input_t *in)
+ * sample once), with_angle its angle (13) (else the sample's theta_obs_rad
+ * and d_theta_obs_rad are 0 and the observer's angle state is not
+ * advanced: for a speed estimator that takes rho_hat instead),
+ * |rho_hat|^2 and the q current over the interval (trapezoid of i_q_hat at
+ * both samples). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE mc_flux_front_sample_t mc_flux_front_update(
+    mc_flux_front_t *f, const mc_est_input_t *in, bool with_angle)
 {
     float v_al;
     float v_be;
     mc_applied_voltage_last_f32(in->v_applied, &v_al, &v_be);
     mc_flux_front_sample_t s;
-    s.finite = mc_flux_obs_update_f32(&f->obs, in->i_alpha_A, in->i_beta_A,
-                                      v_al, v_be, in->slow_tick);
-    s.theta_obs_rad = mc_flux_obs_theta_e_f32(&f->obs);
-    s.d_theta_obs_rad = mc_flux_obs_d_theta_e_f32(&f->obs);
+    if (with_angle) {
+        s.finite = mc_flux_obs_update_f32(&f->obs, in->i_alpha_A, in->i_beta_A,
+                                          v_al, v_be, in->slow_tick);
+        s.theta_obs_rad = mc_flux_obs_theta_e_f32(&f->obs);
+        s.d_theta_obs_rad = mc_flux_obs_d_theta_e_f32(&f->obs);
+    } else {
+        s.finite = mc_flux_obs_advance_f32(&f->obs, in->i_alpha_A, in->i_beta_A,
+                                           v_al, v_be);
+        s.theta_obs_rad = 0.0f;
+        s.d_theta_obs_rad = 0.0f;
+    }
     s.rho_sq = mc_flux_obs_rho_sq_f32(&f->obs);
     /* i_q over [t_{k-1}, t_k]: trapezoid of the two samples. */
     const float i_q_hat =

@@ -39,7 +39,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_ii_step(mc_est_flux_ii_t *est,
         mc_flux_front_held(&est->front, in, t, sc);
         return MC_FAULT_NONE;
     }
-    const mc_flux_front_sample_t s = mc_flux_front_update(&est->front, in);
+    const mc_flux_front_sample_t s =
+        mc_flux_front_update(&est->front, in, true);
     const float finite = mc_speed_load_obs_advance_f32(
         &est->ii, s.d_theta_obs_rad, s.i_q_mean_A);
     const mc_flux_front_speed_t sp = {

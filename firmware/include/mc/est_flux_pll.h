@@ -2,7 +2,11 @@
  * Estimator "flux_pll": sensorless, currents only: the flux observer front
  * end (mc/est_flux_front.h: paper 001 (12)-(14)) and a PLL on its angle
  * with speed and load-torque states (mc/pll_observer.h), the estimator of
- * the "NAM" baseline of paper 001 (Fig. 11). The angle is the PLL's.
+ * the "NAM" baseline of paper 001 (Fig. 11). The angle is the PLL's. The
+ * PLL's phase detector is the cross product of rho_hat = eta / Phi with
+ * its predicted direction (mc_pll_obs_update_vector_f32), from the sine
+ * and cosine of its last angle (kept here): the observer's own angle (13)
+ * is not formed (no atan2, no wrap; mc_flux_front_update without it).
  * Interface: mc/estimator.h.
  */
 #ifndef MC_EST_FLUX_PLL_H
@@ -24,6 +28,8 @@ typedef struct {
 typedef struct {
     mc_flux_front_t front;
     mc_pll_obs_f32_t pll;
+    float sin_prev, cos_prev; /* of the PLL's angle at the last sample (its
+                                 detector's reference) */
 } mc_est_flux_pll_t;
 
 MC_ESTIMATOR_INTERFACE(flux_pll);
@@ -38,10 +44,16 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
         mc_flux_front_held(&est->front, in, t, sc);
         return MC_FAULT_NONE;
     }
-    const mc_flux_front_sample_t s = mc_flux_front_update(&est->front, in);
-    /* Electrical-torque feed-forward kt i_q over the interval. */
-    const float finite = mc_pll_obs_update_f32(
-        &est->pll, s.theta_obs_rad, est->front.kt_Nm_per_A * s.i_q_mean_A);
+    const mc_flux_front_sample_t s =
+        mc_flux_front_update(&est->front, in, false);
+    /* the PLL's cross-product detector on rho_hat = eta / Phi (13);
+     * electrical-torque feed-forward kt i_q over the interval */
+    float r_al;
+    float r_be;
+    mc_flux_obs_rho_f32(&est->front.obs, &r_al, &r_be);
+    const float finite = mc_pll_obs_update_vector_f32(
+        &est->pll, r_al, r_be, est->sin_prev, est->cos_prev,
+        est->front.kt_Nm_per_A * s.i_q_mean_A);
     const mc_flux_front_speed_t sp = {
         .finite = finite,
         .theta_e_rad = mc_pll_obs_theta_e_f32(&est->pll),
@@ -49,8 +61,11 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
         .omega_m_rad_s = mc_pll_obs_omega_m_f32(&est->pll),
         .tau_L_Nm = mc_pll_obs_tau_L_f32(&est->pll),
     };
-    return mc_flux_front_finish(&est->front, in, &s, &sp, false,
-                                &est->pll.bounds, t, sc);
+    const uint32_t faults = mc_flux_front_finish(
+        &est->front, in, &s, &sp, false, &est->pll.bounds, t, sc);
+    est->sin_prev = sc->sin_e;
+    est->cos_prev = sc->cos_e;
+    return faults;
 }
 
 #endif /* MC_EST_FLUX_PLL_H */

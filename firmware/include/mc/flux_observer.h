@@ -116,25 +116,14 @@ mc_status_t mc_flux_obs_step_f32(mc_flux_obs_f32_t *obs, float i_alpha_A,
                                  float v_beta_V);
 
 /*
- * The step of mc_flux_obs_step_f32 without its checks, inline, for a
- * caller that checks a whole sample once: the same operations, written
- * into *obs whatever they give (NaN and Inf propagate into the state).
- * Returns eta_alpha * 0 + eta_beta * 0, +-0 if the step's inputs and
- * results are all finite and NaN otherwise (the aggregate of mc/finite.h:
- * eta = lambda - L i is non-finite whenever a current, a voltage, a flux
- * or the previous state is, so the two new eta decide).
- * The angle (13): exact_angle, atan2(eta) (as the checked step); else the
- * last angle advanced by the angle between the last two eta
- * (mc_atan2_small_f32 of their cross and dot products: 18 instructions
- * on the M4 instead of atan2's 42), wrapped. Each such step adds its
- * roundings, the increment's and the addition's (at most 2e-7 rad, unit
- * test), to the angle: a caller that advances it takes an exact step
- * every few samples (the drive: on every slow tick, mc/estimator.h).
- * Interrupt context: yes (one division, no sqrt).
+ * The flux part of the step ((12) and (14)), unchecked: lambda_hat and eta
+ * advanced, the angle state left as it was (for a caller that does not
+ * use (13), or that forms it next: mc_flux_obs_update_f32). Returns eta_alpha
+ * * 0 + eta_beta * 0 (below). Interrupt context: yes (no division).
  */
 MC_STATIC_FORCEINLINE float
-mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
-                       float v_alpha_V, float v_beta_V, bool exact_angle)
+mc_flux_obs_advance_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
+                        float v_alpha_V, float v_beta_V)
 {
     const float Ts = obs->Ts_s;
     const float half_R = obs->half_R_ohm;
@@ -159,6 +148,36 @@ mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
     const float nb = lb - obs->L_H * i_beta_A;
     obs->eta_alpha_Wb = na;
     obs->eta_beta_Wb = nb;
+    return na * 0.0f + nb * 0.0f;
+}
+
+/*
+ * The step of mc_flux_obs_step_f32 without its checks, inline, for a
+ * caller that checks a whole sample once: the same operations, written
+ * into *obs whatever they give (NaN and Inf propagate into the state).
+ * Returns eta_alpha * 0 + eta_beta * 0, +-0 if the step's inputs and
+ * results are all finite and NaN otherwise (the aggregate of mc/finite.h:
+ * eta = lambda - L i is non-finite whenever a current, a voltage, a flux
+ * or the previous state is, so the two new eta decide).
+ * The angle (13): exact_angle, atan2(eta) (as the checked step); else the
+ * last angle advanced by the angle between the last two eta
+ * (mc_atan2_small_f32 of their cross and dot products: 18 instructions
+ * on the M4 instead of atan2's 42), wrapped. Each such step adds its
+ * roundings, the increment's and the addition's (at most 2e-7 rad, unit
+ * test), to the angle: a caller that advances it takes an exact step
+ * every few samples (the drive: on every slow tick, mc/estimator.h).
+ * Interrupt context: yes (one division, no sqrt).
+ */
+MC_STATIC_FORCEINLINE float
+mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
+                       float v_alpha_V, float v_beta_V, bool exact_angle)
+{
+    const float ea = obs->eta_alpha_Wb;
+    const float eb = obs->eta_beta_Wb;
+    const float finite =
+        mc_flux_obs_advance_f32(obs, i_alpha_A, i_beta_A, v_alpha_V, v_beta_V);
+    const float na = obs->eta_alpha_Wb;
+    const float nb = obs->eta_beta_Wb;
     /* (13): angle of eta (finite for a finite eta) */
     const float theta_prev = obs->theta_e_rad;
     float theta;
@@ -172,7 +191,7 @@ mc_flux_obs_update_f32(mc_flux_obs_f32_t *obs, float i_alpha_A, float i_beta_A,
     }
     obs->theta_e_rad = theta;
     obs->d_theta_e_rad = d_theta;
-    return na * 0.0f + nb * 0.0f;
+    return finite;
 }
 
 /* The angle's increment over the last step, (-pi, pi]. Interrupt context:

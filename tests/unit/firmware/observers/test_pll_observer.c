@@ -7,7 +7,10 @@
  * - with torque feed-forward the load estimate converges to the true load;
  * - configuration checks, non-finite inputs, plausibility bounds;
  * - the ISR's unchecked step is the checked step's arithmetic, and its wrap
- *   (mc_wrap_pi_near_f32, also the other trackers') is mc_wrap_pi_f32's.
+ *   (mc_wrap_pi_near_f32, also the other trackers') is mc_wrap_pi_f32's;
+ * - the cross-product phase detector: the designed poles for small errors,
+ *   its analytic steady-state angle offset, independent of the direction's
+ *   length.
  */
 #include "mc_test.h"
 
@@ -106,6 +109,63 @@ static void test_design_gains_give_triple_pole(void **state)
     }
 }
 
+/* One step of the cross-product detector as the drive's estimator runs
+ * it: the observed direction r [cos theta; sin theta] and the sine and
+ * cosine of the PLL's last angle. */
+static float vector_step(mc_pll_obs_f32_t *pll, double r, double theta, float tau_ff)
+{
+    const double th_prev = (double)mc_pll_obs_theta_e_f32(pll);
+    return mc_pll_obs_update_vector_f32(pll, (float)(r * cos(theta)), (float)(r * sin(theta)),
+                                        (float)sin(th_prev), (float)cos(th_prev), tau_ff);
+}
+
+/* The ramp below (w0 in +-w0_max, alpha in +-alpha_max, theta0 any, drawn
+ * from rng) from the estimates (theta0, 0, 0), 25 / w_b long, through the
+ * checked step (the angle detector) or the cross-product detector
+ * (vector): each error component against the design response, within the
+ * tolerance below of its peak. The PLL is left at the end. */
+typedef struct {
+    double w0, alpha, t_end;
+    double peak[3], max_dev[3];
+} ramp_t;
+
+static ramp_t run_ramp(mc_pll_obs_f32_t *pll, test_rng_t *rng, double wb, double w0_max,
+                       double alpha_max, bool vector)
+{
+    const double theta0 = test_rng_range(rng, -MC_TEST_PI, MC_TEST_PI);
+    ramp_t r = { .w0 = test_rng_range(rng, -w0_max, w0_max) };
+    r.alpha = test_rng_range(rng, -alpha_max, alpha_max); /* drawn in order */
+    const double e0[3] = { 0.0, r.w0, -P001_J_KGM2 * r.alpha };
+    const mc_pll_obs_params_t p = params(wb);
+    assert_int_equal(mc_pll_obs_init_f32(pll, &p), MC_OK);
+    assert_int_equal(mc_pll_obs_reset_f32(pll, (float)theta0, 0.0f, 0.0f), MC_OK);
+    const long n = lround(25.0 / wb / P001_TS_S); /* e^-25 left */
+    for (long k = 1; k <= n; k++) {
+        const double t = (double)k * P001_TS_S;
+        const double theta = theta0 + NP * (r.w0 * t + 0.5 * r.alpha * t * t);
+        if (vector) {
+            assert_true(vector_step(pll, 1.0, theta, 0.0f) == 0.0f);
+        } else {
+            assert_int_equal(mc_pll_obs_step_f32(pll, (float)p001_wrap_rad(theta), 0.0f), MC_OK);
+        }
+        const double e[3] = { p001_wrap_rad(theta - (double)mc_pll_obs_theta_e_f32(pll)),
+                              r.w0 + r.alpha * t - (double)mc_pll_obs_omega_m_f32(pll),
+                              -P001_J_KGM2 * r.alpha - (double)mc_pll_obs_tau_L_f32(pll) };
+        double pred[3];
+        design_response(wb, t, e0, pred);
+        for (int i = 0; i < 3; i++) {
+            r.peak[i] = fmax(r.peak[i], fabs(pred[i]));
+            r.max_dev[i] = fmax(r.max_dev[i], fabs(e[i] - pred[i]));
+        }
+    }
+    const double tol = 3.0 * wb * P001_TS_S + 0.002;
+    for (int i = 0; i < 3; i++) {
+        assert_true(r.max_dev[i] <= tol * r.peak[i] + 1e-5);
+    }
+    r.t_end = (double)n * P001_TS_S;
+    return r;
+}
+
 /* Speed ramp w(t) = w0 + alpha t, no torque feed-forward: in the model the
  * ramp is an effective load tau = -J alpha. From estimates (theta0, 0, 0)
  * the error e = [theta - theta_hat; w - w_hat; tau - tau_hat] starts at
@@ -121,46 +181,20 @@ static void test_tracks_speed_ramp_with_designed_poles(void **state)
     const double bws[3] = { MC_PLL_OBS_BANDWIDTH_DEFAULT_RAD_S, 15.0, 150.0 };
     for (int trial = 0; trial < 6; trial++) {
         const double wb = bws[trial % 3];
-        const double theta0 = test_rng_range(&rng, -MC_TEST_PI, MC_TEST_PI);
-        const double w0 = test_rng_range(&rng, -60.0, 60.0);
-        const double alpha = test_rng_range(&rng, -200.0, 200.0);
-        const double e0[3] = { 0.0, w0, -P001_J_KGM2 * alpha };
         mc_pll_obs_f32_t pll;
-        const mc_pll_obs_params_t p = params(wb);
-        assert_int_equal(mc_pll_obs_init_f32(&pll, &p), MC_OK);
-        assert_int_equal(mc_pll_obs_reset_f32(&pll, (float)theta0, 0.0f, 0.0f), MC_OK);
-        const long n = lround(25.0 / wb / P001_TS_S); /* e^-25 left */
-        double peak[3] = { 0.0, 0.0, 0.0 }, max_dev[3] = { 0.0, 0.0, 0.0 };
-        for (long k = 1; k <= n; k++) {
-            const double t = (double)k * P001_TS_S;
-            const double theta = theta0 + NP * (w0 * t + 0.5 * alpha * t * t);
-            assert_int_equal(mc_pll_obs_step_f32(&pll, (float)p001_wrap_rad(theta), 0.0f), MC_OK);
-            const double e[3] = { p001_wrap_rad(theta - (double)mc_pll_obs_theta_e_f32(&pll)),
-                                  w0 + alpha * t - (double)mc_pll_obs_omega_m_f32(&pll),
-                                  -P001_J_KGM2 * alpha - (double)mc_pll_obs_tau_L_f32(&pll) };
-            double pred[3];
-            design_response(wb, t, e0, pred);
-            for (int i = 0; i < 3; i++) {
-                peak[i] = fmax(peak[i], fabs(pred[i]));
-                max_dev[i] = fmax(max_dev[i], fabs(e[i] - pred[i]));
-            }
-        }
+        const ramp_t r = run_ramp(&pll, &rng, wb, 60.0, 200.0, false);
         if (trial < 3) {
             printf("  w_b = %.0f rad/s: max dev / peak: angle %.3g, speed %.3g, "
                    "load %.3g\n",
-                   wb, max_dev[0] / peak[0], max_dev[1] / peak[1], max_dev[2] / peak[2]);
-        }
-        const double tol = 3.0 * wb * P001_TS_S + 0.002;
-        for (int i = 0; i < 3; i++) {
-            assert_true(max_dev[i] <= tol * peak[i] + 1e-5);
+                   wb, r.max_dev[0] / r.peak[0], r.max_dev[1] / r.peak[1],
+                   r.max_dev[2] / r.peak[2]);
         }
         /* converged on the ramp: zero steady-state error (type 3) up to
          * the Euler half-sample offset alpha Ts / 2 in speed */
-        const double t_end = (double)n * P001_TS_S;
-        assert_true(fabs(mc_pll_obs_omega_m_f32(&pll) - (w0 + alpha * t_end)) <
-                    fabs(alpha) * P001_TS_S + 1e-4);
-        assert_near(mc_pll_obs_tau_L_f32(&pll), -P001_J_KGM2 * alpha,
-                    1e-3 * P001_J_KGM2 * fabs(alpha) + 1e-5);
+        assert_true(fabs(mc_pll_obs_omega_m_f32(&pll) - (r.w0 + r.alpha * r.t_end)) <
+                    fabs(r.alpha) * P001_TS_S + 1e-4);
+        assert_near(mc_pll_obs_tau_L_f32(&pll), -P001_J_KGM2 * r.alpha,
+                    1e-3 * P001_J_KGM2 * fabs(r.alpha) + 1e-5);
     }
 }
 
@@ -380,6 +414,64 @@ static void test_update_is_the_checked_step(void **state)
     }
 }
 
+/* The cross-product detector (mc_pll_obs_update_vector_f32):
+ * - small errors: the error trajectory of a speed ramp follows the
+ *   designed triple pole (design_response) as the angle detector's does,
+ *   the sine's e^3 / 6 below the tolerance of that test;
+ * - constant speed, direction length r = 0.8 .. 1.2 (the loop's gain
+ *   times r; type 3, so no steady error from it): the angle settles at
+ *   atan(d) - d behind the true one, d = n_p Ts w (the first-order
+ *   advance of the detector's reference; analytic), the speed on the
+ *   true speed, the load estimate at 0;
+ * - a non-finite direction or reference reaches the aggregate (NaN). */
+static void test_vector_detector(void **state)
+{
+    (void)state;
+    test_rng_t rng = test_rng_seed(99);
+    for (int trial = 0; trial < 4; trial++) {
+        mc_pll_obs_f32_t pll;
+        const ramp_t r = run_ramp(&pll, &rng, MC_PLL_OBS_BANDWIDTH_DEFAULT_RAD_S, 2.0, 40.0, true);
+        printf("  vector detector, ramp %d: peak angle error %.3g rad, max dev / peak: angle "
+               "%.3g, speed %.3g, load %.3g\n",
+               trial, r.peak[0], r.max_dev[0] / r.peak[0], r.max_dev[1] / r.peak[1],
+               r.max_dev[2] / r.peak[2]);
+    }
+    const double ds[2] = { 0.02, 0.1 }, rs[3] = { 0.8, 1.0, 1.2 };
+    for (int i = 0; i < 2; i++) {
+        for (int j = 0; j < 3; j++) {
+            const double w = ds[i] / (NP * P001_TS_S);
+            mc_pll_obs_f32_t pll;
+            const mc_pll_obs_params_t p = params(MC_PLL_OBS_BANDWIDTH_DEFAULT_RAD_S);
+            assert_int_equal(mc_pll_obs_init_f32(&pll, &p), MC_OK);
+            assert_int_equal(mc_pll_obs_reset_f32(&pll, 0.3f, (float)(0.95 * w), 0.0f), MC_OK);
+            double theta = 0.3;
+            for (long k = 1; k <= 40000; k++) { /* 2 s: w_b t = 80 */
+                theta = p001_wrap_rad(theta + ds[i]);
+                assert_true(vector_step(&pll, rs[j], theta, 0.0f) == 0.0f);
+            }
+            const double lag = p001_wrap_rad(theta - (double)mc_pll_obs_theta_e_f32(&pll));
+            const double expect = atan(ds[i]) - ds[i];
+            printf("  d = %.2f, r = %.1f: angle lag %.4g rad (atan(d) - d = %.4g)\n", ds[i], rs[j],
+                   lag, expect);
+            assert_true(fabs(lag - expect) <= 2e-6);
+            assert_true(fabs((double)mc_pll_obs_omega_m_f32(&pll) - w) <= 1e-4 * w);
+            assert_true(fabs((double)mc_pll_obs_tau_L_f32(&pll)) <= 1e-4);
+        }
+    }
+    const float bad[3] = { NAN, INFINITY, -INFINITY };
+    for (int b = 0; b < 3; b++) {
+        for (int pos = 0; pos < 4; pos++) {
+            mc_pll_obs_f32_t x;
+            const mc_pll_obs_params_t p = params(MC_PLL_OBS_BANDWIDTH_DEFAULT_RAD_S);
+            assert_int_equal(mc_pll_obs_init_f32(&x, &p), MC_OK);
+            assert_int_equal(mc_pll_obs_reset_f32(&x, 0.0f, 10.0f, 0.0f), MC_OK);
+            float in[4] = { 1.0f, 0.0f, 0.0f, 1.0f };
+            in[pos] = bad[b];
+            assert_true(isnan(mc_pll_obs_update_vector_f32(&x, in[0], in[1], in[2], in[3], 0.0f)));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -390,6 +482,7 @@ int main(void)
         cmocka_unit_test(test_nonfinite_and_bounds),
         cmocka_unit_test(test_wrap_near_equals_wrap),
         cmocka_unit_test(test_update_is_the_checked_step),
+        cmocka_unit_test(test_vector_detector),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
