@@ -56,6 +56,7 @@ mc_status_t mc_app_init(mc_app_t *app, const mc_config_t *cfg)
     if (st != MC_OK) {
         return st;
     }
+    app->oc_in_hardware = hal_pwm_overcurrent_arm(cfg->protection.i_trip_A);
     const uint32_t cpr = app->est_info.encoder_cpr;
     if (cpr != 0u && cpr != hal_encoder_counts_per_rev()) {
         return MC_ERR_PARAM;

@@ -312,8 +312,18 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
      * checked in IDLE (the bus may be legitimately down while the drive is
      * off); in FAULT it is, so a clear waits for the bus to recover. */
     const bool check_uv = steady || (app->state != MC_STATE_IDLE);
-    uint32_t active = mc_faults_check_sample_fast(
-        &app->cfg.protection, t->i_abc_A, t->v_dc_V, check_uv);
+    /* The phase currents' levels: a steady ISR leaves them to the HAL's
+     * comparators when they are armed (which stop the outputs by
+     * themselves), every other ISR compares them too. */
+    uint32_t active =
+        (steady && app->oc_in_hardware)
+            ? mc_faults_check_bus_fast(&app->cfg.protection, t->i_abc_A,
+                                       t->v_dc_V, check_uv)
+            : mc_faults_check_sample_fast(&app->cfg.protection, t->i_abc_A,
+                                          t->v_dc_V, check_uv);
+    if (hal_pwm_overcurrent_active()) {
+        active |= MC_FAULT_OVERCURRENT;
+    }
     if (hal_gpio_fault_input_active()) {
         active |= MC_FAULT_EXTERNAL;
     }

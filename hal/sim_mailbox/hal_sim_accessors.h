@@ -87,4 +87,9 @@ HAL_SIM_ACCESSOR bool hal_pwm_outputs_enabled(void)
     return HAL_SIM_MAILBOX->pwm_outputs_enabled;
 }
 
+HAL_SIM_ACCESSOR bool hal_pwm_overcurrent_active(void)
+{
+    return HAL_SIM_MAILBOX->oc_active;
+}
+
 #endif /* HAL_SIM_ACCESSORS_H */

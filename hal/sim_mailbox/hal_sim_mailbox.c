@@ -29,7 +29,8 @@ void hal_sim_mailbox_reset(hal_sim_mailbox_t *mailbox)
 
 bool hal_sim_outputs_active(const hal_sim_mailbox_t *mailbox)
 {
-    return mailbox->pwm_outputs_enabled && mailbox->power_stage_enabled;
+    return mailbox->pwm_outputs_enabled && mailbox->power_stage_enabled &&
+           !mailbox->oc_active;
 }
 
 /* ---- PWM ---------------------------------------------------------------- */
@@ -46,7 +47,20 @@ hal_status_t hal_pwm_init(float f_pwm_Hz, hal_pwm_timing_t *timing)
     timing->period_s = 1.0f / m->pwm_f_Hz;
     timing->delay_periods = m->pwm_delay_periods;
     m->pwm_outputs_enabled = false;
+    m->oc_trip_A = 0.0f;
     return HAL_OK;
+}
+
+/* The engine compares the sampled phase currents with the level and stops
+ * the outputs (host_sim/engine: sim_engine_step). */
+bool hal_pwm_overcurrent_arm(float trip_A)
+{
+    hal_sim_mailbox_t *m = hal_sim_bound();
+    if (!m->oc_comparator || !isfinite(trip_A) || !(trip_A > 0.0f)) {
+        return false;
+    }
+    m->oc_trip_A = trip_A;
+    return true;
 }
 
 /* ---- ADC, encoder, GPIO -------------------------------------------------- */

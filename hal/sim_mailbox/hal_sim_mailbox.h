@@ -10,9 +10,11 @@
  *
  *   engine -> firmware: ADC sample, encoder count/index, fault input, time,
  *                       the PWM the simulated inverter makes (its rate and
- *                       its sample-to-apply delay: hal/pwm.h)
+ *                       its sample-to-apply delay: hal/pwm.h), whether the
+ *                       board has over-current comparators and whether an
+ *                       armed one trips at this sample
  *   firmware -> engine: duties, PWM outputs enable, power-stage enable,
- *                       debug pin
+ *                       debug pin, the comparators' level
  *   both ways:          CAN frames (hal_sim_can.c: a bounded queue each
  *                       way; the engine or a bridge to SocketCAN fills
  *                       the receive queue and empties the transmit one)
@@ -54,11 +56,16 @@ typedef struct {
     bool encoder_index_seen;
     uint32_t encoder_count_at_index;
     bool fault_input_active;
+    bool oc_comparator; /* the simulated board has over-current
+                           comparators (hal_pwm_overcurrent_arm) */
+    bool oc_active;     /* an armed comparator sees a phase current beyond
+                           its level at this sample */
     uint64_t sim_time_ns;
     float pwm_f_Hz;          /* the plant's PWM rate: hal_pwm_init
                                 realises its period 1 / pwm_f_Hz */
     float pwm_delay_periods; /* the engine's sample-to-apply delay */
     /* firmware -> engine */
+    float oc_trip_A;   /* the comparators' level, 0: not armed */
     float duty_abc[3]; /* [0, 1], applied from the next period */
     bool pwm_outputs_enabled;
     bool power_stage_enabled;

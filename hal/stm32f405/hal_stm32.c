@@ -105,6 +105,15 @@ hal_status_t hal_pwm_init(float f_pwm_Hz, hal_pwm_timing_t *timing)
     return HAL_OK;
 }
 
+/* The STM32F405 has no comparators, and a board's TIM1_BKIN (a fixed-level
+ * comparator or a gate driver's fault line) is reported as the fault input:
+ * the firmware compares the sampled currents itself. */
+bool hal_pwm_overcurrent_arm(float trip_A)
+{
+    (void)trip_A;
+    return false;
+}
+
 /* ---- hal/encoder.h ----------------------------------------------------- */
 
 uint32_t hal_encoder_counts_per_rev(void)

@@ -113,6 +113,12 @@ HAL_STM32_INLINE bool hal_pwm_outputs_enabled(void)
     return (STM32_TIM1->BDTR & TIM_BDTR_MOE) != 0u;
 }
 
+/* Never armed (hal_pwm_overcurrent_arm). */
+HAL_STM32_INLINE bool hal_pwm_overcurrent_active(void)
+{
+    return false;
+}
+
 HAL_STM32_INLINE uint32_t hal_cycle_counter(void)
 {
     return STM32_DWT->CYCCNT;

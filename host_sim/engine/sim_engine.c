@@ -104,6 +104,7 @@ int sim_engine_init(sim_engine_t *e, const plant_config_t *plant_cfg, const mc_c
     mb->encoder_cpr = cpr;
     mb->pwm_f_Hz = (float)f_plant;
     mb->pwm_delay_periods = half ? SIM_ENGINE_DELAY_HALF_PERIOD : SIM_ENGINE_DELAY_NEXT_PERIOD;
+    mb->oc_comparator = plant_cfg->inverter.overcurrent_comparator;
     hal_sim_bind(mb);
     const mc_status_t st = mc_app_init(&e->app, fw_cfg);
     hal_sim_bind(NULL);
@@ -352,6 +353,21 @@ static uint32_t apply_injections(sim_engine_t *e, plant_measurement_t *m, bool *
 }
 
 /* Measurement -> mailbox (the ADC and encoder registers of the host). */
+/* An armed comparator (trip_A > 0) trips on a phase current beyond the
+ * level (an infinite one included; NaN does not compare). */
+static bool overcurrent(float trip_A, const double i_abc_A[3])
+{
+    if (!(trip_A > 0.0f)) {
+        return false;
+    }
+    for (unsigned k = 0u; k < 3u; ++k) {
+        if (fabs(i_abc_A[k]) > (double)trip_A) {
+            return true;
+        }
+    }
+    return false;
+}
+
 static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m, bool fault_input)
 {
     for (unsigned k = 0u; k < 3u; ++k) {
@@ -398,9 +414,13 @@ int sim_engine_step(sim_engine_t *e, const mc_command_t *cmd)
     bool fault_input;
     s->injections_active = apply_injections(e, &s->meas, &fault_input);
 
-    /* 3. HAL mailbox, fast ISR. */
+    /* 3. HAL mailbox, fast ISR. The board's over-current comparators, when
+     * the firmware armed them, see the sampled phase currents (a sensor
+     * fault included) and stop the outputs by themselves. */
     hal_sim_mailbox_t *mb = engine_mailbox(e);
     fill_mailbox(mb, &s->meas, fault_input);
+    mb->oc_active = overcurrent(mb->oc_trip_A, s->meas.i_abc_A);
+    s->oc_tripped = mb->oc_active;
     hal_sim_bind(mb);
     /* the command the ISR uses: the one handed over before it */
     s->cmd = e->can_attached ? e->can_node.cmd : *cmd;

@@ -194,6 +194,9 @@ typedef struct {
                                    (to t_k + Ts, or to t_k + Ts/2 with the
                                    half-period update) */
     bool outputs_applied;       /* inverter switching in [t_k, t_k + Ts) */
+    bool oc_tripped;            /* the board's armed over-current
+                                   comparators tripped at t_k (the outputs
+                                   off from there) */
 } sim_trace_sample_t;
 
 /* Private: the caller owns the storage; use the functions below. */

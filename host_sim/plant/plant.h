@@ -213,6 +213,11 @@ typedef struct {
     double t_dead_s;
     double v_device_drop_V;
     double dead_time_current_band_A; /* 0 = hard sign(i) */
+    bool overcurrent_comparator;     /* the board compares the phase
+                                        currents in hardware at the level
+                                        the firmware arms
+                                        (hal_pwm_overcurrent_arm; the
+                                        engine at each sample); false */
 } plant_inverter_params_t;
 
 /* The DC link behind the inverter (model in the notes above). */

@@ -17,6 +17,10 @@ void qemu_loop_plant_default(plant_config_t *pc, double t_load_s, double tau_L_N
 {
     plant_config_default(pc);
     pc->substeps_per_period = PLANT_SUBSTEPS_FAST;
+    /* the image's board compares the phase currents in hardware, as an
+     * MCU's comparators into the timer's break input would: its steady
+     * ISRs leave their levels to it (hal_pwm_overcurrent_arm) */
+    pc->inverter.overcurrent_comparator = true;
     sim_profile_clear(&pc->load_torque_Nm);
     pc->load_torque_Nm.points[0] = (sim_profile_point_t){ t_load_s, 0.0 };
     pc->load_torque_Nm.points[1] = (sim_profile_point_t){ t_load_s, tau_L_Nm };

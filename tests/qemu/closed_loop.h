@@ -72,7 +72,8 @@ typedef struct {
 } qemu_loop_t;
 
 /* The plant's defaults (plant_config_default: paper-001 motor, 48 V,
- * 20 kHz, ideal sensors), the fast setting PLANT_SUBSTEPS_FAST and a load
+ * 20 kHz, ideal sensors), the fast setting PLANT_SUBSTEPS_FAST, the
+ * board's over-current comparators (inverter.overcurrent_comparator) and a load
  * torque step 0 -> tau_L_Nm at the absolute time t_load_s. */
 void qemu_loop_plant_default(plant_config_t *pc, double t_load_s, double tau_L_Nm);
 

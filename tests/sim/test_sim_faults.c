@@ -21,12 +21,14 @@ static void step_ok(sim_engine_t *e, const mc_command_t *cmd)
     assert_int_equal(sim_engine_step(e, cmd), SIM_ENGINE_OK);
 }
 
-static void run_fault_case(sim_inject_kind_t kind, double value, uint32_t expected_fault)
+static void run_fault_case(sim_inject_kind_t kind, double value, uint32_t expected_fault,
+                           bool comparator)
 {
     plant_config_t pc;
     mc_config_t fc;
     fixture_configs(&pc, &fc);
     pc.locked_rotor = true;
+    pc.inverter.overcurrent_comparator = comparator;
     sim_engine_t *e = fixture_engine(&pc, &fc);
     const sim_injection_t inj = { .kind = kind,
                                   .t_start_s = T_FAULT_S,
@@ -55,6 +57,9 @@ static void run_fault_case(sim_inject_kind_t kind, double value, uint32_t expect
     assert_int_equal(s->fw.faults_latched & expected_fault, expected_fault);
     assert_false(s->fw.outputs_enabled);
     assert_false(s->outputs_applied);
+    /* the board's comparators trip on the sampled current beyond the
+     * level (not on NaN) */
+    assert_int_equal(s->oc_tripped, comparator && expected_fault == MC_FAULT_OVERCURRENT);
 
     /* Latched while the cause is present; a clear request is refused. */
     cmd.clear_fault = true;
@@ -106,12 +111,14 @@ typedef struct {
     sim_inject_kind_t kind;
     double value;
     uint32_t expected_fault;
+    bool comparator; /* the board's over-current comparators armed: the
+                        steady ISRs leave the levels to them */
 } fault_case_t;
 
 static void test_fault_case(void **state)
 {
     const fault_case_t *c = *state;
-    run_fault_case(c->kind, c->value, c->expected_fault);
+    run_fault_case(c->kind, c->value, c->expected_fault, c->comparator);
 }
 
 /* A cmocka test of test_fault_case named after the case. */
@@ -122,16 +129,23 @@ static void test_fault_case(void **state)
 
 /* A +30 A spike on the phase-b current sensor (trip level 20 A). */
 static const fault_case_t overcurrent_spike = { SIM_INJECT_CURRENT_OFFSET, 30.0,
-                                                MC_FAULT_OVERCURRENT };
-/* NaN in the phase-b current measurement. */
-static const fault_case_t nan_current = { SIM_INJECT_CURRENT_NAN, 0.0, MC_FAULT_NONFINITE };
+                                                MC_FAULT_OVERCURRENT, false };
+/* The same with the board's comparators. */
+static const fault_case_t overcurrent_spike_comparator = { SIM_INJECT_CURRENT_OFFSET, 30.0,
+                                                           MC_FAULT_OVERCURRENT, true };
+/* NaN in the phase-b current measurement, without and with comparators
+ * (then the current loop's outputs find it). */
+static const fault_case_t nan_current = { SIM_INJECT_CURRENT_NAN, 0.0, MC_FAULT_NONFINITE, false };
+static const fault_case_t nan_current_comparator = { SIM_INJECT_CURRENT_NAN, 0.0,
+                                                     MC_FAULT_NONFINITE, true };
 /* External fault / STO input. */
-static const fault_case_t external_input = { SIM_INJECT_FAULT_INPUT, 0.0, MC_FAULT_EXTERNAL };
+static const fault_case_t external_input = { SIM_INJECT_FAULT_INPUT, 0.0, MC_FAULT_EXTERNAL,
+                                             false };
 /* Bus voltage measured at 70 V (trip 60 V) and at 10 V (trip 20 V). */
 static const fault_case_t bus_overvoltage = { SIM_INJECT_VDC_MEASURED, 70.0,
-                                              MC_FAULT_DC_OVERVOLTAGE };
+                                              MC_FAULT_DC_OVERVOLTAGE, false };
 static const fault_case_t bus_undervoltage = { SIM_INJECT_VDC_MEASURED, 10.0,
-                                               MC_FAULT_DC_UNDERVOLTAGE };
+                                               MC_FAULT_DC_UNDERVOLTAGE, false };
 
 /* A NaN reference in RUN is a non-finite fault too. */
 static void test_nan_reference(void **state)
@@ -195,7 +209,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         FAULT_CASE_TEST(overcurrent_spike),
+        FAULT_CASE_TEST(overcurrent_spike_comparator),
         FAULT_CASE_TEST(nan_current),
+        FAULT_CASE_TEST(nan_current_comparator),
         FAULT_CASE_TEST(external_input),
         FAULT_CASE_TEST(bus_overvoltage),
         FAULT_CASE_TEST(bus_undervoltage),

@@ -98,6 +98,8 @@ typedef struct {
     mc_state_t tlm_entry_state; /* state at the previous ISR's entry */
     bool enable_armed;
     bool clear_prev;
+    bool oc_in_hardware; /* the phase currents' levels watched by the HAL's
+                            comparators (hal_pwm_overcurrent_arm) */
     uint32_t faults_latched;
     uint32_t first_fault; /* bits of the first faulting ISR */
     uint32_t slow_count;  /* ISRs since the last slow tick, mod N */

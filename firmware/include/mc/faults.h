@@ -114,22 +114,46 @@ uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
                                 const float i_abc_A[3], float v_dc_V,
                                 bool check_undervoltage);
 
+/* The bus voltage within its limits (each comparison false for a NaN; an
+ * infinite voltage exceeds the maximum or -FLT_MAX). Interrupt context:
+ * yes. */
+MC_STATIC_FORCEINLINE bool mc_faults_bus_clear(const mc_fault_limits_t *limits,
+                                               float v_dc_V,
+                                               bool check_undervoltage)
+{
+    return v_dc_V <= limits->v_dc_max_V &&
+           (v_dc_V >= limits->v_dc_min_V ||
+            (!check_undervoltage && v_dc_V >= -FLT_MAX));
+}
+
 /* The same result, for the fast ISR: one chain of comparisons decides
  * that no cause is present (each is false for a NaN; an infinite current
- * exceeds the trip level, an infinite bus voltage the maximum or
- * -FLT_MAX) and only a sample that fails it is classified by
- * mc_faults_check_sample. Interrupt context: yes. */
+ * exceeds the trip level) and only a sample that fails it is classified
+ * by mc_faults_check_sample. Interrupt context: yes. */
 MC_STATIC_FORCEINLINE uint32_t mc_faults_check_sample_fast(
     const mc_fault_limits_t *limits, const float i_abc_A[3], float v_dc_V,
     bool check_undervoltage)
 {
     const float i_max = limits->i_trip_A;
-    const bool clear =
-        fabsf(i_abc_A[0]) <= i_max && fabsf(i_abc_A[1]) <= i_max &&
-        fabsf(i_abc_A[2]) <= i_max && v_dc_V <= limits->v_dc_max_V &&
-        (v_dc_V >= limits->v_dc_min_V ||
-         (!check_undervoltage && v_dc_V >= -FLT_MAX));
-    if (clear) {
+    if (fabsf(i_abc_A[0]) <= i_max && fabsf(i_abc_A[1]) <= i_max &&
+        fabsf(i_abc_A[2]) <= i_max &&
+        mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
+        return MC_FAULT_NONE;
+    }
+    return mc_faults_check_sample(limits, i_abc_A, v_dc_V, check_undervoltage);
+}
+
+/* For a drive whose phase-current levels the HAL's comparators watch
+ * (hal_pwm_overcurrent_arm): no cause if the bus is within its limits,
+ * else mc_faults_check_sample's classification of the whole sample. The
+ * currents are not tested here, their finiteness neither: a non-finite
+ * current reaches the estimator's or the controller's one finiteness test
+ * in the same ISR (MC_FAULT_NONFINITE there). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_faults_check_bus_fast(
+    const mc_fault_limits_t *limits, const float i_abc_A[3], float v_dc_V,
+    bool check_undervoltage)
+{
+    if (mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
         return MC_FAULT_NONE;
     }
     return mc_faults_check_sample(limits, i_abc_A, v_dc_V, check_undervoltage);

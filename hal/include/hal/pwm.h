@@ -40,6 +40,17 @@ typedef struct {
  * (HAL_ERR_PARAM, *timing untouched). Interrupt context: no. */
 hal_status_t hal_pwm_init(float f_pwm_Hz, hal_pwm_timing_t *timing);
 
+/* Hardware over-current protection, where the board has it: comparators on
+ * the phase currents that stop the outputs by themselves (e.g. into the
+ * timer's break input), without the firmware. Sets their level to
+ * +-trip_A and returns true; a board without them, or whose comparators
+ * cannot be set to trip_A, returns false, and the firmware compares the
+ * sampled currents itself. Armed, the outputs go off when a phase current
+ * goes beyond the level and stay off while it is (hal_pwm_overcurrent_
+ * active; hal_pwm_enable_outputs cannot override it). trip_A not finite
+ * or not > 0: false. Call after hal_pwm_init. Interrupt context: no. */
+bool hal_pwm_overcurrent_arm(float trip_A);
+
 #ifdef HAL_INLINE_ACCESSORS
 #include HAL_INLINE_ACCESSORS /* the binding's static inline definitions */
 #else
@@ -60,6 +71,11 @@ void hal_pwm_disable_outputs(void);
 
 /* True while the outputs are enabled. Interrupt context: yes. */
 bool hal_pwm_outputs_enabled(void);
+
+/* True while the armed comparators see a phase current beyond their level
+ * (as of this period's sample); false when they are not armed.
+ * Interrupt context: yes. */
+bool hal_pwm_overcurrent_active(void);
 #endif
 
 #endif /* HAL_PWM_H */

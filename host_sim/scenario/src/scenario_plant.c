@@ -151,6 +151,8 @@ static bool read_inverter(jr_object_t *root, plant_config_t *plant)
                          &inv->v_device_drop_V) &&
            jr_number_opt(&o, "dead_time_current_band_A", JR_CLOSED(0.0, 1e3),
                          inv->dead_time_current_band_A, &inv->dead_time_current_band_A) &&
+           jr_bool_opt(&o, "overcurrent_comparator", inv->overcurrent_comparator,
+                       &inv->overcurrent_comparator) &&
            read_dc_link(&o, &plant->dc_link) && jr_finish(&o);
 }
 

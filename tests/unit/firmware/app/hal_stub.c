@@ -54,6 +54,15 @@ bool hal_pwm_outputs_enabled(void)
 {
     return g_hal.outputs_enabled;
 }
+bool hal_pwm_overcurrent_arm(float trip_A)
+{
+    g_hal.oc_trip_A = g_hal.oc_comparator ? trip_A : 0.0f;
+    return g_hal.oc_comparator;
+}
+bool hal_pwm_overcurrent_active(void)
+{
+    return g_hal.oc_active;
+}
 void hal_adc_read(hal_adc_sample_t *out)
 {
     *out = g_hal.adc;

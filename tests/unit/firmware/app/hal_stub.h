@@ -20,6 +20,8 @@ typedef struct {
     bool encoder_edge_capture; /* hal_encoder_edge_age reports ... */
     float encoder_edge_age_s;  /* ... this */
     bool fault_input;
+    bool oc_comparator;           /* hal_pwm_overcurrent_arm succeeds */
+    bool oc_active;               /* hal_pwm_overcurrent_active returns this */
     uint32_t cycle_now;           /* hal_cycle_counter() returns this ... */
     uint32_t cycle_step;          /* ... and then adds this */
     uint32_t cycle_hz;            /* hal_cycle_counter_hz() (0: no counter) */
@@ -34,6 +36,7 @@ typedef struct {
     float duty_abc[3];
     bool outputs_enabled;
     bool power_stage;
+    float oc_trip_A; /* the level armed, 0: none */
     uint32_t duty_writes;
 } hal_stub_t;
 

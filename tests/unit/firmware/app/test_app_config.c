@@ -480,7 +480,9 @@ static void test_estimator_info(void **state)
 
 /* Grid over the three currents and bus voltages: the mask of
  * mc_faults_check_sample and of its fast-ISR form equals the rule written
- * out independently here. */
+ * out independently here; the form for comparators in hardware
+ * (mc_faults_check_bus_fast) gives no cause while the bus is within its
+ * limits, whatever the currents, and the whole mask otherwise. */
 static void test_fault_check_sample_grid(void **state)
 {
     (void)state;
@@ -502,6 +504,7 @@ static void test_fault_check_sample_grid(void **state)
                     }
                 }
                 const double vd = (double)volts[v];
+                const bool bus_fault = vd != vd || vd - vd != 0.0 || vd > 60.0 || (uv && vd < 20.0);
                 if (vd != vd || vd - vd != 0.0) {
                     exp_mask |= MC_FAULT_NONFINITE;
                 } else {
@@ -515,6 +518,8 @@ static void test_fault_check_sample_grid(void **state)
                 assert_int_equal(mc_faults_check_sample(&lim, i3, volts[v], uv != 0), exp_mask);
                 assert_int_equal(mc_faults_check_sample_fast(&lim, i3, volts[v], uv != 0),
                                  exp_mask);
+                assert_int_equal(mc_faults_check_bus_fast(&lim, i3, volts[v], uv != 0),
+                                 bus_fault ? exp_mask : 0u);
             }
         }
     }

@@ -243,11 +243,44 @@ static void test_clear_and_ring(void **state)
     assert_history(exp, n, 3u);                   /* the latest 3 */
 }
 
+/* A HAL with over-current comparators (hal_pwm_overcurrent_arm): the
+ * drive arms them at its trip level; their trip in a steady RUN ISR, with
+ * sampled currents inside the level, latches OVERCURRENT and stops the
+ * outputs in that ISR; a non-finite current in a steady RUN ISR, which the
+ * steady ISR no longer compares, still latches NONFINITE there (the
+ * current loop's outputs). Without comparators nothing is armed. */
+static void test_overcurrent_comparator(void **state)
+{
+    (void)state;
+    assert_true(g_hal.oc_trip_A == 0.0f); /* the stub's default: none */
+    for (int c = 0; c < 2; ++c) {
+        (void)setup(NULL);
+        g_hal.oc_comparator = true;
+        assert_int_equal(mc_app_init(&app, &cfg), MC_OK);
+        assert_true(g_hal.oc_trip_A == cfg.protection.i_trip_A);
+        cmd.i_q_ref_A = 1.0f;
+        go_to_run();
+        for (int k = 0; k < 5; ++k) {
+            assert_int_equal(isr().state, MC_STATE_RUN);
+        }
+        if (c == 0) {
+            g_hal.oc_active = true;
+        } else {
+            set_currents(NAN, 0.0f, 0.0f);
+        }
+        const mc_telemetry_t t = isr();
+        assert_int_equal(t.state, MC_STATE_FAULT);
+        assert_int_equal(t.first_fault, c == 0 ? MC_FAULT_OVERCURRENT : MC_FAULT_NONFINITE);
+        assert_false(g_hal.outputs_enabled);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_two_faults_first_and_history, setup),
         cmocka_unit_test_setup(test_clear_and_ring, setup),
+        cmocka_unit_test_setup(test_overcurrent_comparator, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
