@@ -106,7 +106,8 @@ bool hal_sim_can_deliver(hal_sim_mailbox_t *mailbox,
 /* Take the oldest frame the firmware sent (engine side); false if none. */
 bool hal_sim_can_collect(hal_sim_mailbox_t *mailbox, hal_can_frame_t *frame);
 
-/* True when the inverter switches: PWM outputs AND power stage enabled. */
+/* True when the inverter switches: PWM outputs AND power stage enabled, and
+ * no armed over-current comparator tripped (oc_active). */
 bool hal_sim_outputs_active(const hal_sim_mailbox_t *mailbox);
 
 #endif /* HAL_SIM_MAILBOX_H */
