@@ -2,6 +2,8 @@
  * timing record (app_internal.h): used by mc_app_init and, on a scratch
  * instance, by mc_config_validate. No HAL call here, so a configuration
  * can be validated without a HAL backend. */
+#include <float.h>
+
 #include "app_internal.h"
 #include "dispatch.h"
 
@@ -71,6 +73,12 @@ mc_status_t mc_app_configure(mc_app_t *app, const mc_config_t *cfg,
 {
     app->cfg = *cfg;
     app->timing = *tm;
+    /* v_dc_min_V = 0 (the under-voltage check off) still rejects a bus
+     * the modulator cannot divide by: at or below 0 V, or subnormal */
+    app->protection_powered = cfg->protection;
+    if (!(cfg->protection.v_dc_min_V >= FLT_MIN)) {
+        app->protection_powered.v_dc_min_V = FLT_MIN;
+    }
     if (!mc_dispatch_estimator_info(cfg, &app->est_info)) {
         return MC_ERR_PARAM;
     }

@@ -49,10 +49,8 @@ static uint32_t align_references(mc_app_t *app, const mc_frame_t *fr,
 uint32_t mc_app_align(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
 {
     mc_align_state_t st = MC_ALIGN_BUSY;
+    /* the bus: as in mc_app_run */
     uint32_t faults = align_references(app, fr, t, &st);
-    if (faults == MC_FAULT_NONE) {
-        faults = mc_drive_bus_fault(t->v_dc_V);
-    }
     bool linear = false;
     if (faults == MC_FAULT_NONE) {
         mc_drive_current_step(&app->drive, t);

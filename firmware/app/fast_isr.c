@@ -310,17 +310,19 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
 
     /* Protect and estimate: the causes present now. Under-voltage is not
      * checked in IDLE (the bus may be legitimately down while the drive is
-     * off); in FAULT it is, so a clear waits for the bus to recover. */
+     * off); in FAULT it is, so a clear waits for the bus to recover; in
+     * every state but IDLE the bus is also one the modulator can divide by
+     * (mc_app_t.protection_powered). */
     const bool check_uv = steady || (app->state != MC_STATE_IDLE);
+    const mc_fault_limits_t *limits = &app->protection_powered;
     /* The phase currents' levels: a steady ISR leaves them to the HAL's
      * comparators when they are armed (which stop the outputs by
      * themselves), every other ISR compares them too. */
     uint32_t active =
         (steady && app->oc_in_hardware)
-            ? mc_faults_check_bus_fast(&app->cfg.protection, t->i_abc_A,
-                                       t->v_dc_V, check_uv)
-            : mc_faults_check_sample_fast(&app->cfg.protection, t->i_abc_A,
-                                          t->v_dc_V, check_uv);
+            ? mc_faults_check_bus_fast(limits, t->i_abc_A, t->v_dc_V, check_uv)
+            : mc_faults_check_sample_fast(limits, t->i_abc_A, t->v_dc_V,
+                                          check_uv);
     if (hal_pwm_overcurrent_active()) {
         active |= MC_FAULT_OVERCURRENT;
     }

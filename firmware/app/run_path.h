@@ -19,15 +19,15 @@
 
 /* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
  * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit,
- * the dead-time compensation, on the bus t->v_dc_V the caller has checked
- * (mc_drive_bus_fault). Also fills the alpha/beta voltage the inverter
- * will apply. The modulator runs unchecked: a non-finite voltage gives
- * non-finite duties (mc_app_check_outputs). Returns true if the command
- * was strictly inside the linear range (mc_svpwm_unchecked_f32): then
- * v_alpha, v_beta are finite, so are v_d, v_q (the inverse Park of a
- * non-finite v_d or v_q by a finite sine and cosine is not finite: a
- * product with Inf or NaN is Inf or NaN, 0 x Inf NaN) and the duties (the
- * dead-time compensation of finite duties by the checked currents).
+ * the dead-time compensation, on the bus t->v_dc_V the sample check has
+ * found positive and normal (mc_app_t.protection_powered). Also fills the
+ * alpha/beta voltage the inverter will apply. The modulator runs unchecked: a
+ * non-finite voltage gives non-finite duties (mc_app_check_outputs). Returns
+ * true if the command was strictly inside the linear range
+ * (mc_svpwm_unchecked_f32): then v_alpha, v_beta are finite, so are v_d, v_q
+ * (the inverse Park of a non-finite v_d or v_q by a finite sine and cosine is
+ * not finite: a product with Inf or NaN is Inf or NaN, 0 x Inf NaN) and the
+ * duties (the dead-time compensation of finite duties by the checked currents).
  * Interrupt context: yes. */
 MC_STATIC_FORCEINLINE bool mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
                                            mc_telemetry_t *t)
@@ -107,19 +107,18 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
                                           bool check_position_ref)
 {
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
-    /* the bus once for every voltage computation of the sample */
-    uint32_t faults = mc_drive_bus_fault(t->v_dc_V);
+    /* The bus of every voltage computation of the sample passed this
+     * ISR's sample check (mc_app_t.protection_powered): positive and
+     * normal. */
+    uint32_t faults = mc_dispatch_controller_step(app, cmd, t);
+    /* Every controller's voltage under the measured-current limit. */
+    t->current_limited = mc_current_limit_step_f32(
+        &app->drive.limit, t->i_d_A, t->i_q_A, &t->v_d_V, &t->v_q_V);
+    app->drive.v_d_last_V = t->v_d_V;
+    app->drive.v_q_last_V = t->v_q_V;
     bool linear = false;
     if (faults == MC_FAULT_NONE) {
-        faults = mc_dispatch_controller_step(app, cmd, t);
-        /* Every controller's voltage under the measured-current limit. */
-        t->current_limited = mc_current_limit_step_f32(
-            &app->drive.limit, t->i_d_A, t->i_q_A, &t->v_d_V, &t->v_q_V);
-        app->drive.v_d_last_V = t->v_d_V;
-        app->drive.v_q_last_V = t->v_q_V;
-        if (faults == MC_FAULT_NONE) {
-            linear = mc_app_modulate(app, fr, t);
-        }
+        linear = mc_app_modulate(app, fr, t);
     }
     faults |= mc_app_check_outputs(t, linear);
     if (check_position_ref && mc_app_position_ref_nonfinite(cmd)) {

@@ -131,9 +131,17 @@ typedef struct {
     mc_applied_voltage_f32_t v_applied; /* commands -> voltage over the
                                            last sample interval */
     mc_delay_comp_f32_t delay_comp;
-    mc_drive_t drive;             /* blocks shared by the controllers */
-    mc_estimator_instance_t est;  /* the selected estimator */
-    mc_controller_instance_t ctl; /* the selected controller */
+    mc_drive_t drive;                     /* blocks shared by the controllers */
+    mc_estimator_instance_t est;          /* the selected estimator */
+    mc_controller_instance_t ctl;         /* the selected controller */
+    mc_fault_limits_t protection_powered; /* cfg.protection as the sample
+                                             check applies it: the
+                                             under-voltage trip (every
+                                             state but IDLE) at least
+                                             FLT_MIN, so a bus that passes
+                                             is positive and normal (the
+                                             modulator's division:
+                                             mc_app_run) */
     mc_config_t cfg;
     mc_estimator_info_t est_info; /* of cfg.estimator */
     mc_align_f32_t align;         /* ALIGN sequence (sensorless) */

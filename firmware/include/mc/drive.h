@@ -29,7 +29,6 @@
 #include "mc/drive_io.h"
 #include "mc/estimator.h"
 #include "mc/faults.h"
-#include "mc/finite.h"
 #include "mc/outer_loop.h"
 
 typedef struct {
@@ -42,27 +41,9 @@ typedef struct {
     float v_d_last_V, v_q_last_V;    /* voltage of the previous RUN ISR */
 } mc_drive_t;
 
-/* The fault of a failed voltage computation (current loop, modulator): a
- * bus at or below 0 V (reachable when v_dc_min_V = 0 disables the
- * under-voltage check) is an under-voltage; anything else is a non-finite
- * value. Interrupt context: yes. */
-MC_STATIC_FORCEINLINE uint32_t mc_drive_voltage_fault(float v_dc_V)
-{
-    return (v_dc_V <= 0.0f) ? MC_FAULT_DC_UNDERVOLTAGE : MC_FAULT_NONFINITE;
-}
-
-/* The bus check of a sample's voltage computations (the current loop,
- * the modulator), once before them: MC_FAULT_NONE for a positive normal
- * v_dc_V, else mc_drive_voltage_fault. Interrupt context: yes. */
-MC_STATIC_FORCEINLINE uint32_t mc_drive_bus_fault(float v_dc_V)
-{
-    return mc_positive_normal_f32(v_dc_V) ? MC_FAULT_NONE
-                                          : mc_drive_voltage_fault(v_dc_V);
-}
-
 /* The current loop on t's measured i_d, i_q and references i_d_ref,
  * i_q_ref at omega_e = n_p t->omega_m_rad_s and t->v_dc_V, which the
- * caller has checked (mc_drive_bus_fault): v_d, v_q, v_saturated into
+ * caller has checked (positive and normal): v_d, v_q, v_saturated into
  * *t. A non-finite current, reference or speed gives a non-finite v_d or
  * v_q, which the application's output check turns into
  * MC_FAULT_NONFINITE (it resets the current loop before the next use).

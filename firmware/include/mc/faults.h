@@ -65,7 +65,9 @@ typedef enum {
 typedef struct {
     float i_trip_A;       /* over-current trip on each phase, > 0 */
     float v_dc_max_V;     /* over-voltage trip, > v_dc_min_V */
-    float v_dc_min_V;     /* under-voltage trip, >= 0 */
+    float v_dc_min_V;     /* under-voltage trip, >= 0 (0: off; a
+                             drive still trips below FLT_MIN, where it
+                             could not modulate: mc/app.h) */
     float i_offset_max_A; /* calibration fault above this offset, > 0 */
     float estimate_omega_max_rad_s; /* |omega_m_hat| above:
                                        MC_FAULT_ESTIMATE, > 0 */

@@ -5,7 +5,6 @@
 #ifndef MC_FINITE_H
 #define MC_FINITE_H
 
-#include <float.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -25,14 +24,6 @@ MC_STATIC_FORCEINLINE bool mc_all_finite_f32(const float *x, uint32_t n)
         acc += x[k] * 0.0f;
     }
     return acc == 0.0f;
-}
-
-/* True if x is finite and >= FLT_MIN (a positive normal float: 1/x is
- * finite), with one comparison: x - x is +0 for a finite x and NaN
- * otherwise, so (x - x) + x is x or NaN. Interrupt context: yes. */
-MC_STATIC_FORCEINLINE bool mc_positive_normal_f32(float x)
-{
-    return (x - x) + x >= FLT_MIN;
 }
 
 /* *y = (float)x if that is finite and, for x != 0, nonzero (a design

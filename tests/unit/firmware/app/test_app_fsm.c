@@ -7,6 +7,7 @@
  */
 #include "mc_test.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -354,27 +355,35 @@ static void test_command_mode_validated(void **state)
     assert_int_equal(mc_app_set_command(&app, &bad), MC_ERR_PARAM);
 }
 
-/* With the under-voltage check off (v_dc_min_V = 0), a bus at 0 V in RUN
- * cannot be modulated: the fault is DC_UNDERVOLTAGE, not a non-finite
- * value, in current and in speed mode. */
+/* With the under-voltage check off (v_dc_min_V = 0), a bus in RUN that
+ * the modulator cannot divide by (at or below 0 V, or below the smallest
+ * normal float) is DC_UNDERVOLTAGE, not a non-finite value, in current
+ * and in speed mode; the smallest normal bus still runs. */
 static void test_zero_bus_with_check_off_is_undervoltage(void **state)
 {
     const mc_mode_t modes[] = { MC_MODE_CURRENT, MC_MODE_SPEED };
+    const float buses[] = { 0.0f, -0.0f, -48.0f, 1e-40f, FLT_MIN * 0.5f };
     for (size_t m = 0; m < 2u; ++m) {
-        (void)setup(state);
-        cfg.protection.v_dc_min_V = 0.0f;
-        assert_int_equal(mc_app_init(&app, &cfg), MC_OK);
-        go_to_run();
-        cmd.mode = modes[m];
-        cmd.i_q_ref_A = 1.0f;
-        cmd.omega_m_ref_rad_s = 5.0f;
-        isr();
-        assert_int_equal(tlm().state, MC_STATE_RUN);
-        g_hal.adc.v_dc_V = 0.0f;
-        isr();
-        assert_int_equal(tlm().state, MC_STATE_FAULT);
-        assert_int_equal(tlm().faults_latched, MC_FAULT_DC_UNDERVOLTAGE);
-        assert_false(g_hal.outputs_enabled);
+        for (size_t b = 0; b < sizeof buses / sizeof buses[0]; ++b) {
+            (void)setup(state);
+            cfg.protection.v_dc_min_V = 0.0f;
+            assert_int_equal(mc_app_init(&app, &cfg), MC_OK);
+            go_to_run();
+            cmd.mode = modes[m];
+            cmd.i_q_ref_A = 1.0f;
+            cmd.omega_m_ref_rad_s = 5.0f;
+            isr();
+            assert_int_equal(tlm().state, MC_STATE_RUN);
+            g_hal.adc.v_dc_V = FLT_MIN;
+            isr();
+            isr(); /* a steady ISR too */
+            assert_int_equal(tlm().state, MC_STATE_RUN);
+            g_hal.adc.v_dc_V = buses[b];
+            isr();
+            assert_int_equal(tlm().state, MC_STATE_FAULT);
+            assert_int_equal(tlm().faults_latched, MC_FAULT_DC_UNDERVOLTAGE);
+            assert_false(g_hal.outputs_enabled);
+        }
     }
 }
 
