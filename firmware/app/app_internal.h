@@ -14,7 +14,17 @@
 typedef struct {
     mc_est_input_t in;
     mc_est_sincos_t sc;
+    float v_dc_V; /* the bus (as t->v_dc_V; positive and normal where a
+                     voltage is computed: mc_app_t.protection_powered) */
 } mc_frame_t;
+
+/* The modulator's outputs as the write phase of the fast ISR takes them:
+ * in registers on a steady ISR's path (their copies in the telemetry
+ * record are for its reader). */
+typedef struct {
+    float duty[3];             /* for the HAL */
+    float v_alpha_V, v_beta_V; /* for the applied-voltage record */
+} mc_app_out_t;
 
 /* Design every block of *app from cfg with the timing *tm (no HAL call):
  * the estimator, the controller, the shared blocks, and the ALIGN

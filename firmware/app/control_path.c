@@ -14,7 +14,7 @@ void mc_app_start_run(mc_app_t *app)
     d->v_q_last_V = 0.0f;
     mc_dispatch_controller_start(app);
     app->mode = mc_app_command(app)->mode;
-    app->slow_count = 0u; /* the first RUN ISR ticks */
+    app->slow_left = 0u; /* the first RUN ISR ticks */
     app->state = MC_STATE_RUN;
 }
 
@@ -54,7 +54,8 @@ uint32_t mc_app_align(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
     bool linear = false;
     if (faults == MC_FAULT_NONE) {
         mc_drive_current_step(&app->drive, t);
-        linear = mc_app_modulate(app, fr, t);
+        mc_app_out_t out; /* the ISR's write phase reads *t */
+        linear = mc_app_modulate(app, fr, t->v_d_V, t->v_q_V, t, &out);
     }
     faults |= mc_app_check_outputs(t, linear);
     if (faults == MC_FAULT_NONE && st == MC_ALIGN_DONE) {

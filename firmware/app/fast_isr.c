@@ -173,15 +173,14 @@ static uint32_t calibrate(mc_app_t *app, const float i_raw_A[3])
  * mode and clear request, a finite position reference): the control path
  * unless this ISR's protection stopped RUN (stopped); true if RUN stopped
  * here or before. */
-MC_STATIC_FORCEINLINE bool state_run_steady(mc_app_t *app,
-                                            const mc_command_t *cmd,
-                                            const mc_frame_t *fr,
-                                            mc_telemetry_t *t, bool stopped)
+MC_STATIC_FORCEINLINE bool
+state_run_steady(mc_app_t *app, const mc_command_t *cmd, const mc_frame_t *fr,
+                 mc_telemetry_t *t, bool stopped, mc_app_out_t *out)
 {
     if (stopped) {
         return true;
     }
-    return raise_faults_in_run(app, mc_app_run(app, cmd, fr, t, false), t);
+    return raise_faults_in_run(app, mc_app_run(app, cmd, fr, t, false, out), t);
 }
 
 /* In RUN now: a steady ISR is in RUN until it latches a fault (stopped:
@@ -234,7 +233,8 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
             if (cmd->mode != app->mode) {
                 mc_app_change_mode(app, cmd, t);
             }
-            raise_faults(app, mc_app_run(app, cmd, fr, t, true), t);
+            mc_app_out_t out; /* the write phase reads *t */
+            raise_faults(app, mc_app_run(app, cmd, fr, t, true, &out), t);
         }
         break;
     case MC_STATE_FAULT:
@@ -262,11 +262,13 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
                                     uint32_t t_start, const bool steady,
                                     const bool steady_slow)
 {
+    hal_gpio_debug_pin_set(true);
+    const uint32_t isr_count = app->isr_count + 1u;
+    app->isr_count = isr_count;
     /* The slow tick (mc/app.h): the outer loop's and the supervision's. */
-    const bool slow_tick = steady ? steady_slow : (app->slow_count == 0u);
-    if (++app->slow_count >= app->timing.slow_decimation) {
-        app->slow_count = 0u;
-    }
+    const bool slow_tick = steady ? steady_slow : (app->slow_left == 0u);
+    app->slow_left =
+        slow_tick ? app->timing.slow_decimation - 1u : app->slow_left - 1u;
     app->drive.outer.tick = slow_tick;
 
     /* Sample (converted at this period's sampling instant). */
@@ -300,6 +302,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     float edge_age_s = -1.0f; /* -1 if the HAL keeps no edge times */
     (void)hal_encoder_edge_age(&edge_age_s);
     t->encoder_edge_age_s = edge_age_s;
+    fr.v_dc_V = adc.v_dc_V;
     fr.in.v_applied = &app->v_applied;
     fr.in.running = steady || (app->state == MC_STATE_RUN);
     fr.in.slow_tick = slow_tick;
@@ -350,9 +353,8 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
             check_estimate(app, &fr, t, running);
     }
     /* the currents for the EMF check of the next slow tick: a steady ISR
-     * keeps them only before one (slow_count wrapped to 0 above; a slow
-     * tick is never steady) */
-    if (!steady || app->slow_count == 0u) {
+     * keeps them only before one (slow_left counted down to 0 above) */
+    if (!steady || app->slow_left == 0u) {
         mc_emf_monitor_remember_f32(&app->emf.mon, fr.in.i_alpha_A,
                                     fr.in.i_beta_A);
     }
@@ -362,8 +364,9 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
                           : raise_faults(app, active, t);
 
     /* Transitions, calibration, control. */
+    mc_app_out_t out; /* a steady ISR's outputs (else *t's) */
     if (steady) {
-        stopped = state_run_steady(app, cmd, &fr, t, stopped);
+        stopped = state_run_steady(app, cmd, &fr, t, stopped, &out);
     } else {
         state_machine(app, cmd, adc.i_abc_A, active, &fr, t);
     }
@@ -372,10 +375,14 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
      * they apply is recorded for the observers (mc/delay_comp.h). */
     if (isr_in_run(app, steady, stopped) ||
         (!steady && app->state == MC_STATE_ALIGN)) {
-        hal_pwm_set_duties(t->duty_abc);
-        if (!steady) {
+        if (steady) {
+            hal_pwm_set_duties(out.duty);
+        } else {
+            hal_pwm_set_duties(t->duty_abc);
             hal_pwm_enable_outputs();
             hal_gpio_power_stage_enable(true);
+            out.v_alpha_V = t->v_alpha_V;
+            out.v_beta_V = t->v_beta_V;
         }
     } else {
         outputs_off();
@@ -385,10 +392,12 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
         hal_pwm_set_duties(t->duty_abc);
         t->v_alpha_V = 0.0f;
         t->v_beta_V = 0.0f;
+        out.v_alpha_V = 0.0f;
+        out.v_beta_V = 0.0f;
     }
     /* Finite here: checked in the control path, zero otherwise. */
-    mc_applied_voltage_push_unchecked_f32(&app->v_applied, t->v_alpha_V,
-                                          t->v_beta_V);
+    mc_applied_voltage_push_unchecked_f32(&app->v_applied, out.v_alpha_V,
+                                          out.v_beta_V);
 
     /* Deadline check: counted; the limit-th consecutive overrun is a
      * fault, PWM off in this ISR. */
@@ -411,7 +420,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
     hal_gpio_debug_pin_set(false);
 
-    t->isr_count = app->isr_count;
+    t->isr_count = isr_count;
     /* The rest is constant in RUN (no active fault; the overruns written
      * above when they change): a steady ISR still in RUN finds it in the
      * record. */
@@ -465,8 +474,6 @@ isr_general(mc_app_t *app, const mc_command_t *cmd, uint32_t t_start)
 void mc_app_fast_isr(mc_app_t *app)
 {
     const uint32_t t_start = hal_cycle_counter();
-    hal_gpio_debug_pin_set(true);
-    app->isr_count++;
     const uint32_t k = mc_app_command_slot(app);
     const mc_command_t *cmd = &app->cmd_buf[k];
     /* steady (isr_body): the last ISR ended in RUN without an overrun
@@ -474,7 +481,7 @@ void mc_app_fast_isr(mc_app_t *app)
      * tick */
     if (app->cmd_run_key[k] != app->steady_key) {
         isr_general(app, cmd, t_start);
-    } else if (app->slow_count != 0u) {
+    } else if (app->slow_left != 0u) {
         isr_steady(app, cmd, t_start);
     } else {
         isr_steady_slow(app, cmd, t_start);

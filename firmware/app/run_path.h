@@ -17,20 +17,22 @@
 #include "mc/park.h"
 #include "mc/svpwm.h"
 
-/* v_d, v_q of *t -> duties: inverse Park at the voltage angle (advanced by
- * the delay compensation, mc/delay_comp.h), SVPWM with the circle limit,
- * the dead-time compensation, on the bus t->v_dc_V the sample check has
- * found positive and normal (mc_app_t.protection_powered). Also fills the
- * alpha/beta voltage the inverter will apply. The modulator runs unchecked: a
- * non-finite voltage gives non-finite duties (mc_app_check_outputs). Returns
- * true if the command was strictly inside the linear range
+/* v_d_V, v_q_V (as in *t, or limited) -> duties: inverse Park at the
+ * voltage angle (advanced by the delay compensation, mc/delay_comp.h),
+ * SVPWM with the circle limit, the dead-time compensation, on the bus
+ * fr->v_dc_V the sample check has found positive and normal
+ * (mc_app_t.protection_powered). The duties and the alpha/beta voltage the
+ * inverter will apply into *t and *out. The modulator runs unchecked: a
+ * non-finite voltage gives non-finite duties (mc_app_check_outputs).
+ * Returns true if the command was strictly inside the linear range
  * (mc_svpwm_unchecked_f32): then v_alpha, v_beta are finite, so are v_d, v_q
  * (the inverse Park of a non-finite v_d or v_q by a finite sine and cosine is
  * not finite: a product with Inf or NaN is Inf or NaN, 0 x Inf NaN) and the
  * duties (the dead-time compensation of finite duties by the checked currents).
  * Interrupt context: yes. */
 MC_STATIC_FORCEINLINE bool mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
-                                           mc_telemetry_t *t)
+                                           float v_d_V, float v_q_V,
+                                           mc_telemetry_t *t, mc_app_out_t *out)
 {
     float s;
     float c;
@@ -39,19 +41,22 @@ MC_STATIC_FORCEINLINE bool mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
                              fr->sc.cos_e, &s, &c);
     float v_al;
     float v_be;
-    mc_inv_park_f32(t->v_d_V, t->v_q_V, s, c, &v_al, &v_be);
+    mc_inv_park_f32(v_d_V, v_q_V, s, c, &v_al, &v_be);
     mc_svpwm_out_f32_t pwm;
-    const bool linear = mc_svpwm_unchecked_f32(v_al, v_be, t->v_dc_V,
+    const bool linear = mc_svpwm_unchecked_f32(v_al, v_be, fr->v_dc_V,
                                                MC_SVPWM_LIMIT_CIRCLE, &pwm);
+    out->v_alpha_V = pwm.v_alpha_V;
+    out->v_beta_V = pwm.v_beta_V;
     t->v_alpha_V = pwm.v_alpha_V;
     t->v_beta_V = pwm.v_beta_V;
-    for (uint32_t k = 0u; k < 3u; ++k) {
-        t->duty_abc[k] = pwm.duty[k];
-    }
     /* the inverter's dead time and drops: the duties deliver the command
      * on average (mc/deadtime_comp.h) */
     const bool limited = mc_deadtime_comp_apply_f32(
-        &app->drive.deadtime, t->i_abc_A, t->v_dc_V, t->duty_abc);
+        &app->drive.deadtime, t->i_abc_A, fr->v_dc_V, pwm.duty);
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        out->duty[k] = pwm.duty[k];
+        t->duty_abc[k] = pwm.duty[k];
+    }
     if (pwm.overmodulated || limited) { /* else the controller's flag */
         t->v_saturated = true;
     }
@@ -90,7 +95,7 @@ static inline void mc_app_change_mode(mc_app_t *app, const mc_command_t *cmd,
                                       const mc_telemetry_t *t)
 {
     app->drive.outer.tick = true;
-    app->slow_count = (app->timing.slow_decimation > 1u) ? 1u : 0u;
+    app->slow_left = app->timing.slow_decimation - 1u;
     mc_dispatch_controller_mode_change(app, app->mode, cmd->mode, t);
     app->mode = cmd->mode;
 }
@@ -100,11 +105,9 @@ static inline void mc_app_change_mode(mc_app_t *app, const mc_command_t *cmd,
  * check_position_ref: also the command's position reference in
  * MC_MODE_POSITION (a steady ISR's is finite: mc_app_run_key). Fault
  * bits. Interrupt context: yes. */
-MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
-                                          const mc_command_t *cmd,
-                                          const mc_frame_t *fr,
-                                          mc_telemetry_t *t,
-                                          bool check_position_ref)
+MC_STATIC_FORCEINLINE uint32_t
+mc_app_run(mc_app_t *app, const mc_command_t *cmd, const mc_frame_t *fr,
+           mc_telemetry_t *t, bool check_position_ref, mc_app_out_t *out)
 {
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
     /* The bus of every voltage computation of the sample passed this
@@ -112,13 +115,19 @@ MC_STATIC_FORCEINLINE uint32_t mc_app_run(mc_app_t *app,
      * normal. */
     uint32_t faults = mc_dispatch_controller_step(app, cmd, t);
     /* Every controller's voltage under the measured-current limit. */
-    t->current_limited = mc_current_limit_step_f32(
-        &app->drive.limit, t->i_d_A, t->i_q_A, &t->v_d_V, &t->v_q_V);
-    app->drive.v_d_last_V = t->v_d_V;
-    app->drive.v_q_last_V = t->v_q_V;
+    float v_d = t->v_d_V;
+    float v_q = t->v_q_V;
+    t->current_limited = mc_current_limit_step_f32(&app->drive.limit, t->i_d_A,
+                                                   t->i_q_A, &v_d, &v_q);
+    if (t->current_limited) {
+        t->v_d_V = v_d;
+        t->v_q_V = v_q;
+    }
+    app->drive.v_d_last_V = v_d;
+    app->drive.v_q_last_V = v_q;
     bool linear = false;
     if (faults == MC_FAULT_NONE) {
-        linear = mc_app_modulate(app, fr, t);
+        linear = mc_app_modulate(app, fr, v_d, v_q, t, out);
     }
     faults |= mc_app_check_outputs(t, linear);
     if (check_position_ref && mc_app_position_ref_nonfinite(cmd)) {

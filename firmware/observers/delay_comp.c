@@ -31,6 +31,7 @@ mc_status_t mc_applied_voltage_init_f32(mc_applied_voltage_f32_t *av,
         return MC_ERR_PARAM;
     }
     av->w_older = delay_periods - 0.5f;
+    av->w_newer = 1.0f - av->w_older;
     return mc_applied_voltage_reset_f32(av, 0.0f, 0.0f);
 }
 

@@ -102,7 +102,8 @@ typedef struct {
                             comparators (hal_pwm_overcurrent_arm) */
     uint32_t faults_latched;
     uint32_t first_fault; /* bits of the first faulting ISR */
-    uint32_t slow_count;  /* ISRs since the last slow tick, mod N */
+    uint32_t slow_left;   /* ISRs before the next slow tick (0: this
+                             one ticks), < N */
     uint32_t slow_faults; /* causes the supervision found at the latest
                              slow tick (held to the next) */
     /* command double buffer (mc_app_set_command) */

@@ -114,9 +114,11 @@
 #ifndef MC_CDOBC_H
 #define MC_CDOBC_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/clamp.h"
 #include "mc/compiler.h"
 #include "mc/pi.h"
 #include "mc/status.h"
@@ -447,9 +449,8 @@ mc_cdobc_step_core_f32(mc_cdobc_f32_t *ctl, float omega_m_rad_s,
     const float u_c = ctl->np_Ld_H * i_d_A * omega_m_rad_s;
     const float v_unsat = v + u_c;
     const float v_max = ctl->v_max_V;
-    const bool q_lim = (v_unsat > v_max) || (v_unsat < -v_max);
-    const float v_q =
-        (v_unsat > v_max) ? v_max : ((v_unsat < -v_max) ? -v_max : v_unsat);
+    const bool q_lim = fabsf(v_unsat) > v_max;
+    const float v_q = mc_clamp_sym_f32(v_unsat, v_max);
     /* d axis: PI on i_d* - i_d = -i_d (its own clamp); the integrator is
      * kept only if the step succeeds */
     mc_pi_f32_t pi = ctl->pi_d;

@@ -61,6 +61,7 @@
 #include <stdint.h>
 
 #include "mc/angle.h"
+#include "mc/clamp.h"
 #include "mc/compiler.h"
 #include "mc/drive.h"
 #include "mc/eeo.h"
@@ -169,7 +170,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_eeo_voltages(mc_ctl_eeo_t *ctl,
         if (!isfinite(w)) {
             return MC_FAULT_NONFINITE;
         }
-        w = (w > w_max) ? w_max : ((w < -w_max) ? -w_max : w);
+        w = mc_clamp_sym_f32(w, w_max);
         const float acc =
             ctl->ref_frac_units + w * ctl->Ts_s * ctl->units_per_rad;
         const float whole = rintf(acc);

@@ -13,6 +13,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/clamp.h"
 #include "mc/compiler.h"
 #include "mc/drive.h"
 #include "mc/estimator.h"
@@ -68,7 +69,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
         tau += mc_pi_step_unchecked_f32(&ctl->integral, t->omega_m_ref_rad_s -
                                                             t->omega_m_rad_s);
     }
-    tau = (tau > tau_lim) ? tau_lim : ((tau < -tau_lim) ? -tau_lim : tau);
+    tau = mc_clamp_sym_f32(tau, tau_lim); /* NaN goes on: the output check */
     t->i_d_ref_A = 0.0f;
     t->i_q_ref_A = tau * ctl->inv_kt_A_per_Nm;
     /* The rotations into and out of the estimated frame: by the unit

@@ -77,7 +77,15 @@ MC_STATIC_FORCEINLINE bool mc_current_limit_step_f32(mc_current_limit_f32_t *cl,
         return false; /* the common case: no square root (a NaN current
                          goes on and propagates into the command) */
     }
-    return mc_current_limit_act_f32(cl, i_sq, i_d_A, i_q_A, v_d_V, v_q_V);
+    /* through locals: the caller's voltages stay in registers on the
+     * common path (their address is not taken) */
+    float v_d = *v_d_V;
+    float v_q = *v_q_V;
+    const bool acted =
+        mc_current_limit_act_f32(cl, i_sq, i_d_A, i_q_A, &v_d, &v_q);
+    *v_d_V = v_d;
+    *v_q_V = v_q;
+    return acted;
 }
 
 #endif /* MC_CURRENT_LIMIT_H */

@@ -27,6 +27,7 @@
 #define MC_DEADTIME_COMP_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "mc/compiler.h"
 #include "mc/status.h"
@@ -75,8 +76,18 @@ MC_STATIC_FORCEINLINE bool
 mc_deadtime_comp_apply_f32(const mc_deadtime_comp_f32_t *dc,
                            const float i_abc_A[3], float v_dc_V, float duty[3])
 {
-    return dc->active &&
-           mc_deadtime_comp_apply_active_f32(dc, i_abc_A, v_dc_V, duty);
+    if (!dc->active) {
+        return false;
+    }
+    /* through a local: the caller's duties stay in registers on the
+     * common path (their address is not taken) */
+    float d[3] = { duty[0], duty[1], duty[2] };
+    const bool limited =
+        mc_deadtime_comp_apply_active_f32(dc, i_abc_A, v_dc_V, d);
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        duty[k] = d[k];
+    }
+    return limited;
 }
 
 #endif /* MC_DEADTIME_COMP_H */

@@ -99,6 +99,7 @@ mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float theta_e_rad,
 
 typedef struct {
     float w_older;      /* d - 1/2, weight of v_{k-2} */
+    float w_newer;      /* 1 - w_older, weight of v_{k-1} */
     float v_older_V[2]; /* v_{k-2} (alpha, beta) */
     float v_newer_V[2]; /* v_{k-1} (alpha, beta) */
 } mc_applied_voltage_f32_t;
@@ -121,7 +122,7 @@ mc_applied_voltage_last_f32(const mc_applied_voltage_f32_t *av,
                             float *v_alpha_V, float *v_beta_V)
 {
     const float w_old = av->w_older;
-    const float w_new = 1.0f - w_old;
+    const float w_new = av->w_newer;
     *v_alpha_V = w_old * av->v_older_V[0] + w_new * av->v_newer_V[0];
     *v_beta_V = w_old * av->v_older_V[1] + w_new * av->v_newer_V[1];
 }

@@ -89,9 +89,11 @@
 #define MC_EEO_H
 
 #include <float.h>
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc/clamp.h"
 #include "mc/compiler.h"
 #include "mc/status.h"
 
@@ -361,8 +363,8 @@ mc_eeo_step_core_f32(mc_eeo_f32_t *ctl, int32_t err_counts, mc_eeo_out_t *out)
     const float u_hat = ctl->inv_b_bar * (-x3 + ctl->K[0] * x0 +
                                           ctl->K[1] * x1 + ctl->K[2] * x2);
     const float n_v = ctl->N_V;
-    const bool sat_n = (u_hat > n_v) || (u_hat < -n_v);
-    const float u_bar = (u_hat > n_v) ? n_v : ((u_hat < -n_v) ? -n_v : u_hat);
+    const bool sat_n = fabsf(u_hat) > n_v;
+    const float u_bar = mc_clamp_sym_f32(u_hat, n_v);
     /* (7): v_q = Gamma eta + u_bar, clamped to the drive's limit */
     const uint32_t n_w = ctl->n_w;
     /* the drive's order 3 (paper 000, mc/ctl_eeo.h) as straight-line
@@ -371,9 +373,8 @@ mc_eeo_step_core_f32(mc_eeo_f32_t *ctl, int32_t err_counts, mc_eeo_out_t *out)
                                         : mc_eeo_gamma_eta_f32(ctl, n_w);
     const float v_sum = gamma_eta + u_bar;
     const float v_max = ctl->v_q_max_V;
-    const bool lim = (v_sum > v_max) || (v_sum < -v_max);
-    const float v_q =
-        (v_sum > v_max) ? v_max : ((v_sum < -v_max) ? -v_max : v_sum);
+    const bool lim = fabsf(v_sum) > v_max;
+    const float v_q = mc_clamp_sym_f32(v_sum, v_max);
     const float u_app = v_q - gamma_eta; /* what the plant really got */
     /* eta_{k+1} = eta_k + D eta_k + E u_bar_app (exact ZOH), into the
      * spare half */

@@ -23,6 +23,7 @@
 #include <stdint.h>
 
 #include "mc/circle_limit.h"
+#include "mc/clamp.h"
 #include "mc/compiler.h"
 #include "mc/drive_io.h"
 #include "mc/position_loop.h"
@@ -81,7 +82,7 @@ MC_STATIC_FORCEINLINE bool mc_outer_loop_speed_f32(mc_outer_loop_f32_t *o,
     } else {
         const float w_max = o->omega_max_rad_s;
         w_ref = cmd->omega_m_ref_rad_s;
-        w_ref = (w_ref > w_max) ? w_max : ((w_ref < -w_max) ? -w_max : w_ref);
+        w_ref = mc_clamp_sym_f32(w_ref, w_max);
     }
     o->omega_m_ref_rad_s = w_ref;
     o->i_d_ref_A = 0.0f; /* surface PMSM: no reluctance torque */
