@@ -4,6 +4,7 @@
 #include <math.h>
 
 #include "mc/angle.h"
+#include "mc/clamp.h"
 #include "mc/finite.h"
 #include "mc/park.h"
 
@@ -174,9 +175,8 @@ mc_status_t mc_align_step_f32(mc_align_f32_t *a, float i_alpha_A,
     if (ph == 0u && a->n_phase < a->ramp_n) {
         ramp = (float)(a->n_phase + 1u) / (float)a->ramp_n; /* ramp_n > 0 */
     }
-    float i_q_ref = -a->k_d_A_s_per_rad * w;
-    const float lim = a->i_q_max_A;
-    i_q_ref = (i_q_ref > lim) ? lim : ((i_q_ref < -lim) ? -lim : i_q_ref);
+    const float i_q_ref =
+        mc_clamp_sym_f32(-a->k_d_A_s_per_rad * w, a->i_q_max_A);
     if (a->state == MC_ALIGN_BUSY) {
         advance(a);
     }
