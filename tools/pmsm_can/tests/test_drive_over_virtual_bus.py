@@ -156,19 +156,22 @@ def test_parameter_enable_speed_and_timeout(drive):
     assert client.param_get("foc_pi.speed_bandwidth_rad_s") == ("f32", 150.0)
     with pytest.raises(Exception):
         client.param_set("foc_pi.speed_bandwidth_rad_s", -5.0)  # invalid: rejected
-    # speed command, streamed (feeds the 0.1 s command timeout); 0.8 s in,
-    # a parameter write, which the running drive refuses (status 2)
+    # speed command, streamed (feeds the 0.1 s command timeout); 0.6 s in
+    # (wall time, so a loaded machine that sends less often still sends
+    # it with time left for the answer), a parameter write, which the
+    # running drive refuses (status 2)
     target = 20.0
     pid = param_id("foc_pi.speed_bandwidth_rad_s")
-    sent = {"n": 0}
+    t_write = time.monotonic() + 0.6
+    sent = {"write": False}
 
     def send():
         client.mode("speed")
         client.speed(target)
         client.enable(True)
-        sent["n"] += 1
-        if sent["n"] == 40:
+        if not sent["write"] and time.monotonic() >= t_write:
             client.send("Cmd_ParamWrite", {"Param_id": pid, "Param_type": 0, "Value_f32": 120.0})
+            sent["write"] = True
 
     keep(client, 1.0, send)
     st = client.latest["Tlm_Status"][1]  # the last one received while streaming
