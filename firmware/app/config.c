@@ -26,13 +26,16 @@ void mc_config_init_default(mc_config_t *cfg)
                    .B_Nm_s_rad = 0.0f },
         /* 20 kHz fast ISR, 2 kHz slow loop, 25.6 ms offset calibration
          * (512 samples); three consecutive overruns (mc/app.h, deadline);
-         * the sample-to-apply delay of the HAL, compensated. */
+         * the sample-to-apply delay of the HAL, compensated; the
+         * telemetry of every ISR (an MCU build that does not need it
+         * spares its stores in most ISRs). */
         .timing = { .f_pwm_Hz = 20000.0f,
                     .slow_loop_Hz = 2000.0f,
                     .calib_time_s = 0.0256f,
                     .isr_overrun_limit = 3u,
                     .delay_periods = 0.0f,
-                    .delay_compensation = true },
+                    .delay_compensation = true,
+                    .telemetry_every_isr = true },
         /* 10 A = 7.65 N m; 40 rad/s mech: back-EMF 20.4 V < 0.95*48/sqrt3. */
         .limits = { .i_max_A = 10.0f, .omega_max_rad_s = 40.0f },
         /* Trip at 2 i_max; 48 V bus within [20, 60] V; estimates: twice

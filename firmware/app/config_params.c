@@ -42,6 +42,7 @@ static const mc_param_t timing_params[] = {
     MC_PARAM(mc_timing_config_t, isr_overrun_limit, MC_PARAM_U32),
     MC_PARAM(mc_timing_config_t, delay_periods, MC_PARAM_F32),
     MC_PARAM(mc_timing_config_t, delay_compensation, MC_PARAM_BOOL),
+    MC_PARAM(mc_timing_config_t, telemetry_every_isr, MC_PARAM_BOOL),
     MC_PARAM_END,
 };
 

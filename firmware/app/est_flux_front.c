@@ -70,10 +70,9 @@ uint32_t mc_flux_front_start(mc_flux_front_t *f, float theta_e_rad,
     return MC_FAULT_NONE;
 }
 
-/* The fault bits (see mc_flux_front_fault). */
-static uint32_t fault_bits(mc_flux_front_t *f, mc_flux_front_sample_t s,
-                           mc_flux_front_speed_t sp, float theta_m_rad,
-                           const mc_estimate_bounds_t *b, mc_telemetry_t *t)
+uint32_t mc_flux_front_fault(const mc_flux_front_t *f, mc_flux_front_sample_t s,
+                             mc_flux_front_speed_t sp, float theta_m_rad,
+                             const mc_estimate_bounds_t *b)
 {
     const uint32_t rho_fault =
         (s.rho_sq >= f->ratio_min_sq && s.rho_sq <= f->ratio_max_sq)
@@ -85,19 +84,8 @@ static uint32_t fault_bits(mc_flux_front_t *f, mc_flux_front_sample_t s,
         return (s.finite == 0.0f) ? (rho_fault | MC_FAULT_NONFINITE)
                                   : MC_FAULT_NONFINITE;
     }
-    mc_flux_front_publish(f, s.rho_sq, &sp, theta_m_rad, t);
     return rho_fault |
            (mc_estimate_bounds_hold(b, sp.omega_m_rad_s, sp.tau_L_Nm)
                 ? MC_FAULT_NONE
                 : MC_FAULT_ESTIMATE);
-}
-
-uint32_t mc_flux_front_fault(mc_flux_front_t *f, mc_flux_front_sample_t s,
-                             mc_flux_front_speed_t sp, float theta_m_rad,
-                             const mc_estimate_bounds_t *b, mc_telemetry_t *t,
-                             mc_est_sincos_t *sc)
-{
-    const uint32_t faults = fault_bits(f, s, sp, theta_m_rad, b, t);
-    mc_sincos_f32(t->theta_e_rad, &sc->sin_e, &sc->cos_e);
-    return faults;
 }

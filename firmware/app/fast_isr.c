@@ -43,9 +43,11 @@ static void outputs_off(void)
 }
 
 /* Record a fault event (the history ring, sequence counter odd while
- * writing: mc_app_fault_history). */
-static void record_fault(mc_app_t *app, uint32_t new_bits,
-                         const mc_telemetry_t *t)
+ * writing: mc_app_fault_history) of the sample i_abc_A, v_dc_V and the
+ * speed estimate omega_m_rad_s. */
+static void record_fault(mc_app_t *app, uint32_t new_bits, float i_a_A,
+                         float i_b_A, float i_c_A, float v_dc_V,
+                         float omega_m_rad_s)
 {
     app->history_seq = app->history_seq + 1u;
     atomic_signal_fence(memory_order_seq_cst);
@@ -54,32 +56,44 @@ static void record_fault(mc_app_t *app, uint32_t new_bits,
     ev->isr_count = app->isr_count;
     ev->faults = new_bits;
     ev->state = app->state;
-    for (uint32_t k = 0u; k < 3u; ++k) {
-        ev->i_abc_A[k] = t->i_abc_A[k];
-    }
-    ev->v_dc_V = t->v_dc_V;
-    ev->omega_m_rad_s = t->omega_m_rad_s;
+    ev->i_abc_A[0] = i_a_A;
+    ev->i_abc_A[1] = i_b_A;
+    ev->i_abc_A[2] = i_c_A;
+    ev->v_dc_V = v_dc_V;
+    ev->omega_m_rad_s = omega_m_rad_s;
     app->history_count = app->history_count + 1u;
     atomic_signal_fence(memory_order_seq_cst);
     app->history_seq = app->history_seq + 1u;
 }
 
 /* Latch the new fault bits; from any other state the PWM goes off right
- * here (the reaction: coast, mc/app.h). They are recorded, the first ones
- * since the last clear kept as the first fault. */
-static void latch_faults(mc_app_t *app, uint32_t new_bits,
-                         const mc_telemetry_t *t)
+ * here (the reaction: coast, mc/app.h). They are recorded with the
+ * sample (record_fault), the first ones since the last clear kept as the
+ * first fault. */
+static void latch_faults(mc_app_t *app, uint32_t new_bits, float i_a_A,
+                         float i_b_A, float i_c_A, float v_dc_V,
+                         float omega_m_rad_s)
 {
     if (app->faults_latched == MC_FAULT_NONE) {
         app->first_fault = new_bits;
     }
     app->faults_latched |= new_bits;
-    record_fault(app, new_bits, t);
+    record_fault(app, new_bits, i_a_A, i_b_A, i_c_A, v_dc_V, omega_m_rad_s);
     if (app->state != MC_STATE_FAULT) {
         outputs_off();
         app->state = MC_STATE_FAULT;
         app->enable_armed = false;
     }
+}
+
+/* latch_faults with the sample of *t, taken by value: the record's
+ * address does not reach the out-of-line latch, so a steady ISR's scratch
+ * record stays in registers (isr_body). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void latch_faults_of(mc_app_t *app, uint32_t new_bits,
+                                           const mc_telemetry_t *t)
+{
+    latch_faults(app, new_bits, t->i_abc_A[0], t->i_abc_A[1], t->i_abc_A[2],
+                 t->v_dc_V, t->omega_m_rad_s);
 }
 
 /* Latch the bits of faults not latched yet (inline: usually none); true
@@ -89,7 +103,7 @@ MC_STATIC_FORCEINLINE bool raise_faults(mc_app_t *app, uint32_t faults,
 {
     const uint32_t new_bits = faults & ~app->faults_latched;
     if (new_bits != MC_FAULT_NONE) {
-        latch_faults(app, new_bits, t);
+        latch_faults_of(app, new_bits, t);
         return true;
     }
     return false;
@@ -102,7 +116,7 @@ MC_STATIC_FORCEINLINE bool raise_faults_in_run(mc_app_t *app, uint32_t faults,
                                                const mc_telemetry_t *t)
 {
     if (faults != MC_FAULT_NONE) {
-        latch_faults(app, faults, t);
+        latch_faults_of(app, faults, t);
         return true;
     }
     return false;
@@ -255,12 +269,16 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
  * equals the command's run key, mc_app_run_key): the common case, whose two
  * instances (steady_slow, also a constant: with the slow tick or without) the
  * compiler strips of everything else; the general instance runs every
- * ISR with the same code. Each instance inlines the whole control path
- * (about 12 kB of flash each at -Os): the slow tick's own instance saves
- * its ISR the general one's state handling, about 100 instructions. */
+ * ISR with the same code. publish, a constant too: this ISR writes the
+ * telemetry record (false only in the steady instance without the slow
+ * tick, which runs with timing.telemetry_every_isr off; with it on, the
+ * general instance runs those ISRs). Each instance inlines the whole
+ * control path (about 12 kB of flash each at -Os): the slow tick's own
+ * instance saves its ISR the general one's state handling, about 100
+ * instructions. */
 MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
                                     uint32_t t_start, const bool steady,
-                                    const bool steady_slow)
+                                    const bool steady_slow, const bool publish)
 {
     hal_gpio_debug_pin_set(true);
     const uint32_t isr_count = app->isr_count + 1u;
@@ -278,8 +296,14 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
      * until the end of this ISR. It restarts from zero unless this ISR and
      * the previous one both begin in RUN in the same mode: a steady RUN
      * ISR writes every field its path sets (the rest keep their zero), so
-     * it spares the 152-byte clear. */
-    mc_telemetry_t *const t = mc_app_tlm_begin(app);
+     * it spares the 152-byte clear. A steady ISR between slow ticks (the
+     * instance with publish false: timing.telemetry_every_isr off) writes
+     * a scratch record instead, which the compiler keeps in registers
+     * (nothing takes its address: fault_sample, the cold paths' copies):
+     * the blocks hand their values on as before and the stores of the
+     * record are spared; the record keeps the latest publishing ISR's. */
+    mc_telemetry_t scratch = { .omega_m_rad_s = app->omega_last_rad_s };
+    mc_telemetry_t *const t = publish ? mc_app_tlm_begin(app) : &scratch;
     const bool same_run = steady || (app->state == MC_STATE_RUN &&
                                      app->tlm_entry_state == MC_STATE_RUN &&
                                      cmd->mode == app->mode);
@@ -293,9 +317,10 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
     t->slow_loop_ran = false; /* set by the outer loop's tick */
     t->v_dc_V = adc.v_dc_V;
-    for (uint32_t k = 0u; k < 3u; ++k) {
-        t->i_abc_A[k] = adc.i_abc_A[k] - app->i_offset_A[k];
-    }
+    /* (unrolled: a record indexed by a variable would stay in memory) */
+    t->i_abc_A[0] = adc.i_abc_A[0] - app->i_offset_A[0];
+    t->i_abc_A[1] = adc.i_abc_A[1] - app->i_offset_A[1];
+    t->i_abc_A[2] = adc.i_abc_A[2] - app->i_offset_A[2];
     mc_frame_t fr; /* every field set before use (no zeroing cost) */
     fr.in.encoder_count = hal_encoder_count();
     t->encoder_count = fr.in.encoder_count;
@@ -438,7 +463,10 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
             t->i_offset_abc_A[k] = app->i_offset_A[k];
         }
     }
-    mc_app_tlm_end(app);
+    if (publish) {
+        mc_app_tlm_end(app);
+    }
+    app->omega_last_rad_s = t->omega_m_rad_s;
     const bool no_streak = steady ? !overran : (app->overrun_streak == 0u);
     const bool run_continues = isr_in_run(app, steady, stopped) && no_streak;
     if (!steady) {
@@ -456,19 +484,19 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
 static __attribute__((noinline)) void
 isr_steady(mc_app_t *app, const mc_command_t *cmd, uint32_t t_start)
 {
-    isr_body(app, cmd, t_start, true, false);
+    isr_body(app, cmd, t_start, true, false, false);
 }
 
 static __attribute__((noinline)) void
 isr_steady_slow(mc_app_t *app, const mc_command_t *cmd, uint32_t t_start)
 {
-    isr_body(app, cmd, t_start, true, true);
+    isr_body(app, cmd, t_start, true, true, true);
 }
 
 static __attribute__((noinline)) void
 isr_general(mc_app_t *app, const mc_command_t *cmd, uint32_t t_start)
 {
-    isr_body(app, cmd, t_start, false, false);
+    isr_body(app, cmd, t_start, false, false, true);
 }
 
 void mc_app_fast_isr(mc_app_t *app)
@@ -477,13 +505,16 @@ void mc_app_fast_isr(mc_app_t *app)
     const uint32_t k = mc_app_command_slot(app);
     const mc_command_t *cmd = &app->cmd_buf[k];
     /* steady (isr_body): the last ISR ended in RUN without an overrun
-     * streak and this command continues it; with or without the slow
-     * tick */
+     * streak and this command continues it; with the slow tick, or
+     * without it and without writing the telemetry record (else the
+     * general instance writes it) */
     if (app->cmd_run_key[k] != app->steady_key) {
         isr_general(app, cmd, t_start);
-    } else if (app->slow_left != 0u) {
-        isr_steady(app, cmd, t_start);
-    } else {
+    } else if (app->slow_left == 0u) {
         isr_steady_slow(app, cmd, t_start);
+    } else if (app->timing.telemetry_every_isr) {
+        isr_general(app, cmd, t_start);
+    } else {
+        isr_steady(app, cmd, t_start);
     }
 }

@@ -49,6 +49,7 @@ mc_status_t mc_timing_init(mc_timing_t *tm, const mc_timing_config_t *c,
         .calib_samples = (uint32_t)n_calib,
         .isr_overrun_limit = c->isr_overrun_limit,
         .delay_compensation = c->delay_compensation,
+        .telemetry_every_isr = c->telemetry_every_isr,
     };
     return MC_OK;
 }

@@ -88,21 +88,6 @@ static void pace_period(const pace_t *p, uint64_t k, run_result_t *res)
     }
 }
 
-static mc_command_t command_at(const scenario_reference_t *ref, double t_s)
-{
-    mc_command_t cmd = { .enable = true, .mode = ref->mode };
-    const double v = sim_profile_eval(&ref->value, t_s);
-    switch (ref->mode) {
-    case MC_MODE_SPEED: cmd.omega_m_ref_rad_s = (float)v; break;
-    case MC_MODE_POSITION: cmd.theta_m_ref_rad = (float)v; break;
-    case MC_MODE_CURRENT:
-        cmd.i_q_ref_A = (float)v;
-        cmd.i_d_ref_A = (float)sim_profile_eval(&ref->i_d_A, t_s);
-        break;
-    }
-    return cmd;
-}
-
 /* The controlled variable of the true plant state, SI. */
 static double controlled_si(mc_mode_t mode, const plant_true_state_t *p)
 {
@@ -269,7 +254,7 @@ static bool step_loop(const scenario_t *s, const run_options_t *opt, sim_engine_
         if (!pump_can(opt, engine, t_s, msg, msg_size)) {
             return false;
         }
-        const mc_command_t cmd = command_at(&s->reference, t_s);
+        const mc_command_t cmd = scenario_command_at(&s->reference, t_s);
         if (sim_engine_step(engine, opt->can != NULL ? NULL : &cmd) != SIM_ENGINE_OK) {
             snprintf(msg, msg_size, "engine step at t = %.6f s failed: %s", t_s,
                      sim_engine_message(engine));

@@ -55,6 +55,8 @@ void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw
      * bench runs an ISR every few us, so 100 in a row, the largest limit,
      * is still a hung ISR. */
     fw->timing.isr_overrun_limit = MC_TIMING_OVERRUN_LIMIT_MAX;
+    /* The bench's traces and metrics read the record after every ISR. */
+    fw->timing.telemetry_every_isr = true;
 }
 
 /* NULL when the firmware configuration agrees with the plant's PWM rate
@@ -486,8 +488,9 @@ static mc_status_t engine_apply_config(void *ctx, const mc_config_t *cfg)
         return MC_ERR_STATE;
     }
     hal_sim_mailbox_t *mb = engine_mailbox(e);
-    if (firmware_mismatch(cfg, (double)mb->pwm_f_Hz, mb->encoder_cpr) != NULL) {
-        return MC_ERR_PARAM;
+    if (firmware_mismatch(cfg, (double)mb->pwm_f_Hz, mb->encoder_cpr) != NULL ||
+        cfg->timing.telemetry_every_isr != e->fw_cfg.timing.telemetry_every_isr) {
+        return MC_ERR_PARAM; /* the rate of the record the bench reads stays */
     }
     /* the drive exactly as it is (state, latched faults, history) and the
      * firmware's HAL outputs, to put back if mc_app_init refuses cfg */

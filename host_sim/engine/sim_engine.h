@@ -228,11 +228,12 @@ typedef struct {
 /* The firmware values the bench takes from the plant: the nominal motor
  * (the controller's model; the plant applies its mismatch), the PWM rate,
  * the inverter's dead time and device drop (what a board's firmware knows
- * of its own inverter) and the encoder resolution (4 x lines); and the one
+ * of its own inverter) and the encoder resolution (4 x lines); and the ones
  * the host sets: the
  * ISR-overrun fault after MC_TIMING_OVERRUN_LIMIT_MAX periods over budget
- * in a row (the ISR is timed in host wall time, see sim_engine.c). The rest of
- * *fw is kept.
+ * in a row (the ISR is timed in host wall time, see sim_engine.c), and the
+ * telemetry record written by every ISR (timing.telemetry_every_isr: the
+ * traces and metrics read it after each). The rest of *fw is kept.
  * Call after mc_config_init_default() (or on any configuration). */
 void sim_engine_firmware_from_plant(const plant_config_t *plant, mc_config_t *fw);
 
@@ -286,7 +287,9 @@ double sim_engine_period_s(const sim_engine_t *e);
  * to be calibrated again at the next enable) with the new configuration.
  * A configuration the engine cannot run is refused (MC_ERR_STATE: the
  * drive is not IDLE or FAULT; MC_ERR_PARAM: PWM frequency or encoder
- * resolution no longer the plant's; mc_app_init's error) and the drive
+ * resolution no longer the plant's, or a telemetry rate
+ * (timing.telemetry_every_isr) other than the one in force: the engine's
+ * traces read the record after every ISR; mc_app_init's error) and the drive
  * stays exactly as it was (the engine puts back its copy of the drive
  * taken before mc_app_init): the node answers the write with the error.
  * Returns SIM_ENGINE_OK, SIM_ENGINE_ERR_NULL, SIM_ENGINE_ERR_STATE (init

@@ -150,6 +150,18 @@ static inline hal_can_frame_t can_cmd_param_write_f32(uint32_t node, uint16_t pa
     return f;
 }
 
+/* Cmd_ParamWrite of a bool: Param_id 0|16, Param_type 16|8 = 2,
+ * Value_bool 24|8 (DLC 7 as every write). */
+static inline hal_can_frame_t can_cmd_param_write_bool(uint32_t node, uint16_t param_id, bool v)
+{
+    hal_can_frame_t f = can_frame(node, CAN_MSG_PARAM_WRITE, 7u);
+    f.data[0] = (uint8_t)(param_id & 0xFFu);
+    f.data[1] = (uint8_t)(param_id >> 8);
+    f.data[2] = 2u;
+    f.data[3] = v ? 1u : 0u;
+    return f;
+}
+
 /* Tlm_Status fields. */
 static inline unsigned can_status_state(const hal_can_frame_t *f) /* 12|4 */
 {

@@ -372,6 +372,35 @@ static void test_apply_refused(void **state)
     free(b.e);
 }
 
+/* A write of the telemetry rate (timing.telemetry_every_isr) is refused
+ * by the engine, whose traces read the record after every ISR: the node
+ * answers PARAM_INVALID and the configuration in force keeps the rate;
+ * a write the engine can run goes through after it. */
+static void test_telemetry_rate_write_refused(void **state)
+{
+    (void)state;
+    bench_t b;
+    bench_attach(&b);
+    assert_int_equal(sim_engine_last(b.e)->fw.state, MC_STATE_IDLE);
+    assert_true(sim_engine_can_node(b.e)->drive_cfg.timing.telemetry_every_isr);
+    const uint16_t pid = can_crc16_ccitt_false("timing.telemetry_every_isr");
+    deliver(&b, can_cmd_param_write_bool(NODE, pid, false));
+    const unsigned n_rsp = b.n_rsp;
+    steps(&b, 20u);
+    assert_int_equal(b.n_rsp, n_rsp + 1u);
+    assert_int_equal(can_rsp_param_id(&b.last_rsp), pid);
+    assert_int_equal(b.last_rsp.data[3], PARAM_INVALID);
+    assert_true(sim_engine_can_node(b.e)->drive_cfg.timing.telemetry_every_isr);
+    assert_true(mc_app_timing(&b.e->app)->telemetry_every_isr);
+    const uint16_t pid_ok = can_crc16_ccitt_false(PARAM_NAME);
+    deliver(&b, can_cmd_param_write_f32(NODE, pid_ok, PARAM_NEW));
+    steps(&b, 20u);
+    assert_int_equal(b.n_rsp, n_rsp + 2u);
+    assert_int_equal(b.last_rsp.data[3], PARAM_OK);
+    assert_near(sim_engine_can_node(b.e)->drive_cfg.foc_pi.speed_bandwidth_rad_s, PARAM_NEW, 0.0);
+    free(b.e);
+}
+
 /* The hand-made CRCs against their standard check values. */
 static void test_crc_check_values(void **state)
 {
@@ -388,6 +417,7 @@ int main(void)
         cmocka_unit_test(test_attach_api),
         cmocka_unit_test(test_speed_timeout_param),
         cmocka_unit_test(test_apply_refused),
+        cmocka_unit_test(test_telemetry_rate_write_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -16,9 +16,13 @@
  * drive's state, sizeof(mc_app_t)), fw_self_max_instr (the firmware's own
  * deadline measurement, hal_cycle_counter: instructions from its first to
  * its last counter read).
+ * The drive runs as an MCU build would: timing.telemetry_every_isr off
+ * (mc/timing.h), so the record the harness reads after an ISR may be an
+ * earlier ISR's (isr_count tells).
  * RUN ISRs are the ISRs that start and end in RUN; "slow" ones ran the
  * decimated outer loop (the firmware's own flag, telemetry slow_loop_ran),
- * "fast" ones did not.
+ * "fast" ones did not, among them every ISR that left the record as it
+ * was (only a steady RUN ISR between slow ticks does).
  *
  * ISR report (for hal/qemu_m4/cycle_estimate.py; off in the images as
  * built): qemu_loop_report is in .data, so a tool can set it in a copy of

@@ -18,11 +18,13 @@
  * t - T_RUN, as in the scenario's metrics).
  *
  * Output: the harness's (closed_loop.h), the angle error every 250 ms
- * (printed only), and the checkpoints, from the TRUE plant state:
+ * (printed only), and the checkpoints, the angles from the TRUE plant
+ * state:
  *   final_angle_error_rad theta_m - theta* at the end
  *   settled_s             last tb with |theta_m - theta*| > 1e-3 rad
  *   peak_v_paper_V        max |v_dq| in RUN in the paper's units (sqrt(3/2)
- *                         times the drive's)
+ *                         times the drive's), over the records the drive
+ *                         wrote (closed_loop.h: its slow ticks)
  * Exit status 0 only if RUN was reached at T_RUN, no fault latched, no
  * ISR overrun, the angle stayed finite and the peak voltage stayed within
  * the SVPWM circle (v_dc / sqrt(2) in the paper's units).

@@ -36,6 +36,17 @@
  * counter, retried if the ISR wrote meanwhile). Nothing else of mc_app_t may
  * be touched from outside.
  *
+ * Telemetry rate: with timing.telemetry_every_isr (the default, and the
+ * simulator's) every fast ISR writes the record. Without it the steady RUN
+ * ISRs between slow ticks (RUN continues in the same mode, no fault, no
+ * overrun streak) do not: their blocks hand their values on through a
+ * scratch record the compiler keeps in registers, the same arithmetic bit
+ * for bit (tests/sim/test_telemetry_rate.c), about 30 instructions less per
+ * such ISR on the Cortex-M4. The record then holds the latest slow tick's
+ * or other writing ISR's values (isr_count says which ISR); a fault latched
+ * in such an ISR is in the fault history at once (mc_app_fault_history,
+ * with its sample) and in the record from the next ISR on.
+ *
  * Timing: mc_app_init() configures the PWM first and designs every block
  * with the period the HAL realised and its sample-to-apply delay
  * (mc/timing.h).
@@ -106,6 +117,9 @@ typedef struct {
                              one ticks), < N */
     uint32_t slow_faults; /* causes the supervision found at the latest
                              slow tick (held to the next) */
+    /* the speed estimate in the latest ISR's record at its end: where a
+     * scratch record starts (isr_body), as the record would */
+    float omega_last_rad_s;
     /* command double buffer (mc_app_set_command) */
     mc_command_t cmd_buf[2];
     uint32_t cmd_run_key[2]; /* mc_app_run_key of each buffer */
@@ -189,7 +203,9 @@ const mc_timing_t *mc_app_timing(const mc_app_t *app);
 mc_status_t mc_app_fault_history(const mc_app_t *app, mc_fault_event_t *out,
                                  uint32_t n, uint32_t *copied);
 
-/* Copy the telemetry of the latest complete fast ISR. MC_ERR_STATE if the
+/* Copy the telemetry of the latest complete fast ISR that wrote it (the
+ * telemetry rate above; isr_cost_s, isr_cost_max_s: the latest ISR's and
+ * the largest, whichever wrote the record). MC_ERR_STATE if the
  * ISR rewrote it during each of a few copy attempts (reader starved; *out
  * then holds no consistent snapshot). Call from thread/background context.
  * Interrupt context: no. */

@@ -79,11 +79,11 @@ mc_deadtime_comp_apply_f32(const mc_deadtime_comp_f32_t *dc,
     if (!dc->active) {
         return false;
     }
-    /* through a local: the caller's duties stay in registers on the
-     * common path (their address is not taken) */
+    /* through locals: the caller's duties and currents stay in registers
+     * on the common path (their addresses are not taken) */
     float d[3] = { duty[0], duty[1], duty[2] };
-    const bool limited =
-        mc_deadtime_comp_apply_active_f32(dc, i_abc_A, v_dc_V, d);
+    const float i[3] = { i_abc_A[0], i_abc_A[1], i_abc_A[2] };
+    const bool limited = mc_deadtime_comp_apply_active_f32(dc, i, v_dc_V, d);
     for (uint32_t k = 0u; k < 3u; ++k) {
         duty[k] = d[k];
     }

@@ -37,10 +37,10 @@ typedef struct {
                        of MC_FAULT_COMM_TIMEOUT while true */
 } mc_command_t;
 
-/* Telemetry of the latest fast ISR. 8-byte aligned: the ISR publishes
- * it by one struct copy, and the C library's memcpy moves 8-byte aligned
- * blocks with doubleword loads and stores (newlib on the Cortex-M4: 36
- * instructions for this record instead of 66). */
+/* Telemetry of the latest fast ISR that wrote it (every ISR, or with
+ * timing.telemetry_every_isr off every ISR but the steady RUN ISRs
+ * between slow ticks: mc/timing.h). 8-byte aligned: a whole number of
+ * 8-byte units, which the ISR's clear relies on (fast_isr.c). */
 typedef struct {
     _Alignas(8) uint32_t isr_count; /* number of fast ISRs since init */
     mc_state_t state;

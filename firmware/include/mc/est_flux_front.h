@@ -150,12 +150,11 @@ mc_flux_front_publish(mc_flux_front_t *f, float rho_sq,
 }
 
 /* The fault bits of a sample that failed mc_flux_front_finish's common
- * case (see there), its estimates published if they are finite, and the
- * sine and cosine of the angle in *t into *sc. Interrupt context: yes. */
-uint32_t mc_flux_front_fault(mc_flux_front_t *f, mc_flux_front_sample_t s,
+ * case (see there); MC_FAULT_NONFINITE among them if and only if its
+ * estimates are not all finite. Interrupt context: yes. */
+uint32_t mc_flux_front_fault(const mc_flux_front_t *f, mc_flux_front_sample_t s,
                              mc_flux_front_speed_t sp, float theta_m_rad,
-                             const mc_estimate_bounds_t *b, mc_telemetry_t *t,
-                             mc_est_sincos_t *sc);
+                             const mc_estimate_bounds_t *b);
 
 /* The sine and cosine of the reported angle theta_e_rad. observer_angle:
  * theta_e_rad is the observer's angle theta_obs = atan2(eta) (13) itself,
@@ -214,10 +213,14 @@ MC_STATIC_FORCEINLINE uint32_t mc_flux_front_finish(
         mc_flux_front_sincos(f, s->rho_sq, sp->theta_e_rad, observer_angle, sc);
         return MC_FAULT_NONE;
     }
-    mc_est_sincos_t sc_fault; /* through a local: see mc_est_sincos_of */
-    const uint32_t faults =
-        mc_flux_front_fault(f, *s, *sp, theta_m, b, t, &sc_fault);
-    *sc = sc_fault;
+    /* the uncommon case: finite estimates are published, and the sine
+     * and cosine are those of the angle in *t (*t's address stays here:
+     * isr_body) */
+    const uint32_t faults = mc_flux_front_fault(f, *s, *sp, theta_m, b);
+    if ((faults & MC_FAULT_NONFINITE) == 0u) {
+        mc_flux_front_publish(f, s->rho_sq, sp, theta_m, t);
+    }
+    mc_est_sincos_of(t->theta_e_rad, sc);
     return faults;
 }
 

@@ -128,6 +128,17 @@ MC_STATIC_FORCEINLINE bool mc_faults_bus_clear(const mc_fault_limits_t *limits,
             (!check_undervoltage && v_dc_V >= -FLT_MAX));
 }
 
+/* mc_faults_check_sample through a copy of the currents, for the fast
+ * paths' uncommon case: the caller's currents stay in registers on the
+ * common path (their address is not taken). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE uint32_t mc_faults_check_sample_copy(
+    const mc_fault_limits_t *limits, const float i_abc_A[3], float v_dc_V,
+    bool check_undervoltage)
+{
+    const float i[3] = { i_abc_A[0], i_abc_A[1], i_abc_A[2] };
+    return mc_faults_check_sample(limits, i, v_dc_V, check_undervoltage);
+}
+
 /* The same result, for the fast ISR: one chain of comparisons decides
  * that no cause is present (each is false for a NaN; an infinite current
  * exceeds the trip level) and only a sample that fails it is classified
@@ -142,7 +153,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_faults_check_sample_fast(
         mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
         return MC_FAULT_NONE;
     }
-    return mc_faults_check_sample(limits, i_abc_A, v_dc_V, check_undervoltage);
+    return mc_faults_check_sample_copy(limits, i_abc_A, v_dc_V,
+                                       check_undervoltage);
 }
 
 /* For a drive whose phase-current levels the HAL's comparators watch
@@ -158,7 +170,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_faults_check_bus_fast(
     if (mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
         return MC_FAULT_NONE;
     }
-    return mc_faults_check_sample(limits, i_abc_A, v_dc_V, check_undervoltage);
+    return mc_faults_check_sample_copy(limits, i_abc_A, v_dc_V,
+                                       check_undervoltage);
 }
 
 #endif /* MC_FAULTS_H */

@@ -46,6 +46,11 @@ typedef struct {
                                    an override in [0.5, 1.5] */
     bool delay_compensation;    /* advance the output voltage angle by
                                    omega_e d Ts (mc/delay_comp.h) */
+    bool telemetry_every_isr;   /* the telemetry record written by every
+                                   fast ISR (a simulation's traces); false:
+                                   by every ISR but the steady RUN ISRs
+                                   between slow ticks, which spare its
+                                   stores (mc/app.h) */
 } mc_timing_config_t;
 
 typedef struct {
@@ -56,6 +61,7 @@ typedef struct {
     uint32_t calib_samples;   /* >= 1 */
     uint32_t isr_overrun_limit;
     bool delay_compensation;
+    bool telemetry_every_isr;
 } mc_timing_t;
 
 /* Build the record from the configuration, the period the HAL realised

@@ -6,8 +6,9 @@
  * determines (the nominal motor, the PWM rate, the inverter's dead time and
  * device drop, the encoder resolution) come
  * from the plant sections (sim_engine_firmware_from_plant) and are not keys
- * here. Ranges: the firmware's validation is the one judge; a rejected
- * configuration names the keys that can make it valid (firmware_blame.h). */
+ * here, nor is the telemetry rate the bench needs (every ISR's record). Ranges: the firmware's
+ * validation is the one judge; a rejected configuration names the keys that can make it valid
+ * (firmware_blame.h). */
 #include <float.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -22,7 +23,8 @@
 bool scenario_firmware_from_plant(const char *block, const char *field)
 {
     return strcmp(block, "motor") == 0 ||
-           (strcmp(block, "timing") == 0 && strcmp(field, "f_pwm_Hz") == 0) ||
+           (strcmp(block, "timing") == 0 &&
+            (strcmp(field, "f_pwm_Hz") == 0 || strcmp(field, "telemetry_every_isr") == 0)) ||
            (strcmp(block, "deadtime") == 0 &&
             (strcmp(field, "dead_time_s") == 0 || strcmp(field, "device_drop_V") == 0)) ||
            (strcmp(block, "encoder") == 0 && strcmp(field, "counts_per_rev") == 0);

@@ -12,6 +12,21 @@ const char *scenario_mode_name(mc_mode_t mode)
     return (size_t)mode < sizeof(mode_names) / sizeof(mode_names[0]) ? mode_names[mode] : "unknown";
 }
 
+mc_command_t scenario_command_at(const scenario_reference_t *ref, double t_s)
+{
+    mc_command_t cmd = { .enable = true, .mode = ref->mode };
+    const double v = sim_profile_eval(&ref->value, t_s);
+    switch (ref->mode) {
+    case MC_MODE_SPEED: cmd.omega_m_ref_rad_s = (float)v; break;
+    case MC_MODE_POSITION: cmd.theta_m_ref_rad = (float)v; break;
+    case MC_MODE_CURRENT:
+        cmd.i_q_ref_A = (float)v;
+        cmd.i_d_ref_A = (float)sim_profile_eval(&ref->i_d_A, t_s);
+        break;
+    }
+    return cmd;
+}
+
 static bool read_speed_reference(jr_object_t *o, scenario_reference_t *ref)
 {
     bool has_rpm = jr_peek(o, "speed_rpm") != NULL;

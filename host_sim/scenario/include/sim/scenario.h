@@ -100,6 +100,10 @@ bool scenario_firmware_from_plant(const char *block, const char *field);
 /* "current", "speed" or "position": the reference.mode names. */
 const char *scenario_mode_name(mc_mode_t mode);
 
+/* The drive's command at simulated time t_s: enabled, in the reference's
+ * mode, its profile's value (and i_d in current mode). */
+mc_command_t scenario_command_at(const scenario_reference_t *ref, double t_s);
+
 /* Map a parsed document into *out. err->file should already name the source.
  * Returns false with the first error (key path, expected, found). */
 bool scenario_from_json(const cJSON *root, scenario_t *out, scn_error_t *err);

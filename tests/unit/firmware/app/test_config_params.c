@@ -276,6 +276,8 @@ static void test_known_keys(void **state)
         { "timing", "delay_periods", MC_PARAM_F32, offsetof(mc_config_t, timing.delay_periods) },
         { "timing", "delay_compensation", MC_PARAM_BOOL,
           offsetof(mc_config_t, timing.delay_compensation) },
+        { "timing", "telemetry_every_isr", MC_PARAM_BOOL,
+          offsetof(mc_config_t, timing.telemetry_every_isr) },
         { "protection", "i_trip_A", MC_PARAM_F32, offsetof(mc_config_t, protection.i_trip_A) },
         { "protection", "estimate_tau_max_Nm", MC_PARAM_F32,
           offsetof(mc_config_t, protection.estimate_tau_max_Nm) },

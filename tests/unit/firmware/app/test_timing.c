@@ -52,11 +52,18 @@ static void test_default_record(void **state)
     assert_int_equal(tm.isr_overrun_limit, c.isr_overrun_limit);
     assert_int_equal(tm.isr_overrun_limit, 3u);
     assert_true(tm.delay_compensation);
+    assert_true(tm.telemetry_every_isr);
     assert_near(tm.delay_periods, 1.5, 0.0);
     mc_timing_config_t off = c;
     off.delay_compensation = false;
     assert_int_equal(timing_init(&tm, &off, TS_NOM, 1.5f), MC_OK);
     assert_false(tm.delay_compensation);
+    assert_true(tm.telemetry_every_isr);
+    off = c;
+    off.telemetry_every_isr = false;
+    assert_int_equal(timing_init(&tm, &off, TS_NOM, 1.5f), MC_OK);
+    assert_false(tm.telemetry_every_isr);
+    assert_true(tm.delay_compensation);
 }
 
 /* delay_periods = 0: the HAL's delay; otherwise the override, whatever

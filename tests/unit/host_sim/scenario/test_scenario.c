@@ -688,7 +688,8 @@ static const field_case_t field_cases[] = {
 static bool from_plant(const char *block, const char *field)
 {
     return strcmp(block, "motor") == 0 ||
-           (strcmp(block, "timing") == 0 && strcmp(field, "f_pwm_Hz") == 0) ||
+           (strcmp(block, "timing") == 0 &&
+            (strcmp(field, "f_pwm_Hz") == 0 || strcmp(field, "telemetry_every_isr") == 0)) ||
            (strcmp(block, "deadtime") == 0 &&
             (strcmp(field, "dead_time_s") == 0 || strcmp(field, "device_drop_V") == 0)) ||
            (strcmp(block, "encoder") == 0 && strcmp(field, "counts_per_rev") == 0);
@@ -834,6 +835,12 @@ static void plant_values_are_not_firmware_keys(void **state)
     assert_string_equal(err.path, "firmware.timing.f_pwm_Hz");
     assert_non_null(strstr(err.expected, "\"slow_loop_Hz\""));
     assert_null(strstr(err.expected, "\"f_pwm_Hz\""));
+    /* the bench reads the record after every ISR: not a key either */
+    const char *every_isr[] = { "firmware.timing.telemetry_every_isr=false" };
+    assert_false(load(valid_doc, every_isr, 1));
+    assert_int_equal(err.code, SCN_ERR_UNKNOWN_KEY);
+    assert_string_equal(err.path, "firmware.timing.telemetry_every_isr");
+    assert_null(strstr(err.expected, "\"telemetry_every_isr\""));
     const char *cpr[] = { "firmware.encoder.counts_per_rev=4000" };
     assert_false(load(valid_doc, cpr, 1));
     assert_int_equal(err.code, SCN_ERR_UNKNOWN_KEY);
