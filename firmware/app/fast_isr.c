@@ -287,7 +287,6 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     const bool slow_tick = steady ? steady_slow : (app->slow_left == 0u);
     app->slow_left =
         slow_tick ? app->timing.slow_decimation - 1u : app->slow_left - 1u;
-    app->drive.outer.tick = slow_tick;
 
     /* Sample (converted at this period's sampling instant). */
     hal_adc_sample_t adc;
@@ -388,7 +387,9 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     bool stopped = steady ? raise_faults_in_run(app, active, t)
                           : raise_faults(app, active, t);
 
-    /* Transitions, calibration, control. */
+    /* Transitions, calibration, control (the outer loop's tick written
+     * here, next to its use: the compiler sees the value it reads). */
+    app->drive.outer.tick = slow_tick;
     mc_app_out_t out; /* a steady ISR's outputs (else *t's) */
     if (steady) {
         stopped = state_run_steady(app, cmd, &fr, t, stopped, &out);
@@ -468,13 +469,18 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
     app->omega_last_rad_s = t->omega_m_rad_s;
     const bool no_streak = steady ? !overran : (app->overrun_streak == 0u);
-    const bool run_continues = isr_in_run(app, steady, stopped) && no_streak;
+    /* the next ISR may run a steady instance: RUN continues, and the
+     * next ISR is a slow tick or need not write the record (an ISR that
+     * did not write it knows: mc_app_fast_isr) */
+    const bool next_steady =
+        isr_in_run(app, steady, stopped) && no_streak &&
+        (!publish || app->slow_left == 0u || !app->timing.telemetry_every_isr);
     if (!steady) {
-        app->steady_key = run_continues
+        app->steady_key = next_steady
                               ? mc_app_run_key(true, false, cmd->clear_fault,
                                                false, app->mode)
                               : MC_APP_NO_RUN_KEY;
-    } else if (!run_continues) { /* else the key stays: the same mode */
+    } else if (!next_steady) { /* else the key stays: the same mode */
         app->steady_key = MC_APP_NO_RUN_KEY;
     }
 }
@@ -506,14 +512,13 @@ void mc_app_fast_isr(mc_app_t *app)
     const mc_command_t *cmd = &app->cmd_buf[k];
     /* steady (isr_body): the last ISR ended in RUN without an overrun
      * streak and this command continues it; with the slow tick, or
-     * without it and without writing the telemetry record (else the
-     * general instance writes it) */
+     * without it and without writing the telemetry record (the last
+     * ISR's key says whether a steady instance may run this one: with
+     * timing.telemetry_every_isr only at a slow tick) */
     if (app->cmd_run_key[k] != app->steady_key) {
         isr_general(app, cmd, t_start);
     } else if (app->slow_left == 0u) {
         isr_steady_slow(app, cmd, t_start);
-    } else if (app->timing.telemetry_every_isr) {
-        isr_general(app, cmd, t_start);
     } else {
         isr_steady(app, cmd, t_start);
     }

@@ -125,8 +125,10 @@ typedef struct {
     uint32_t cmd_run_key[2]; /* mc_app_run_key of each buffer */
     volatile uint32_t cmd_index;
     uint32_t steady_key; /* the run key of a command that continues this
-                            RUN in the next ISR, MC_APP_NO_RUN_KEY if RUN
-                            did not continue (mc_app_fast_isr) */
+                            RUN in the next ISR in a steady instance,
+                            MC_APP_NO_RUN_KEY if RUN did not continue or
+                            the next ISR must write the record in the
+                            general instance (mc_app_fast_isr) */
     float i_offset_A[3];
     /* deadline */
     float s_per_cycle;      /* 1 / hal_cycle_counter_hz() */
