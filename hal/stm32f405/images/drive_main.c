@@ -70,11 +70,15 @@ int main(void)
         report("HAL init failed: ", (int32_t)hs);
         stm32_fatal("HAL init");
     }
-    /* the defaults (mc/config.h) with the board's encoder; the motor and
-     * the tuning come over CAN (parameter writes) */
+    /* the defaults (mc/config.h) with the board's encoder, and the
+     * telemetry record written at the slow ticks in RUN, not by every ISR
+     * (mc/timing.h: its CAN telemetry then refreshes at the slow-loop
+     * rate, 2 kHz by default); the motor and the tuning come over CAN
+     * (parameter writes) */
     mc_config_t cfg;
     mc_config_init_default(&cfg);
     cfg.encoder.counts_per_rev = hal_encoder_counts_per_rev();
+    cfg.timing.telemetry_every_isr = false;
     const mc_status_t st = mc_app_init(&app, &cfg);
     if (st != MC_OK) {
         report("drive init failed: ", (int32_t)st);
