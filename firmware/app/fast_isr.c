@@ -298,9 +298,12 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
      * it spares the 152-byte clear. A steady ISR between slow ticks (the
      * instance with publish false: timing.telemetry_every_isr off) writes
      * a scratch record instead, which the compiler keeps in registers
-     * (nothing takes its address: fault_sample, the cold paths' copies):
+     * (nothing takes its address: latch_faults_of, the cold paths' copies):
      * the blocks hand their values on as before and the stores of the
-     * record are spared; the record keeps the latest publishing ISR's. */
+     * record are spared; the record keeps the latest publishing ISR's.
+     * Its fields read before this ISR writes them are zero, but the
+     * speed estimate, which starts where the record's would (the fault
+     * history records it); only uncommon paths that stop RUN read any. */
     mc_telemetry_t scratch = { .omega_m_rad_s = app->omega_last_rad_s };
     mc_telemetry_t *const t = publish ? mc_app_tlm_begin(app) : &scratch;
     const bool same_run = steady || (app->state == MC_STATE_RUN &&
