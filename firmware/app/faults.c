@@ -46,10 +46,11 @@ mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits)
     return MC_OK;
 }
 
-uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
-                                const float i_abc_A[3], float v_dc_V,
+uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits, float i_a_A,
+                                float i_b_A, float i_c_A, float v_dc_V,
                                 bool check_undervoltage)
 {
+    const float i_abc_A[3] = { i_a_A, i_b_A, i_c_A };
     uint32_t f = MC_FAULT_NONE;
     for (uint32_t k = 0u; k < 3u; ++k) {
         if (!isfinite(i_abc_A[k])) {

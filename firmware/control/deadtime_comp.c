@@ -34,9 +34,10 @@ mc_status_t mc_deadtime_comp_init_f32(mc_deadtime_comp_f32_t *dc,
 }
 
 bool mc_deadtime_comp_apply_active_f32(const mc_deadtime_comp_f32_t *dc,
-                                       const float i_abc_A[3], float v_dc_V,
-                                       float duty[3])
+                                       float i_a_A, float i_b_A, float i_c_A,
+                                       float v_dc_V, float duty[3])
 {
+    const float i_abc_A[3] = { i_a_A, i_b_A, i_c_A };
     const float error = dc->duty_time + dc->drop_V / v_dc_V; /* v_dc > 0 */
     bool limited = false;
     for (int x = 0; x < 3; ++x) {

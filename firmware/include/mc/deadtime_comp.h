@@ -68,8 +68,8 @@ mc_status_t mc_deadtime_comp_init_f32(mc_deadtime_comp_f32_t *dc,
 /* The compensation proper (mc_deadtime_comp_apply_f32 on an active
  * block). Interrupt context: yes. */
 bool mc_deadtime_comp_apply_active_f32(const mc_deadtime_comp_f32_t *dc,
-                                       const float i_abc_A[3], float v_dc_V,
-                                       float duty[3]);
+                                       float i_a_A, float i_b_A, float i_c_A,
+                                       float v_dc_V, float duty[3]);
 
 /* Interrupt context: yes. */
 MC_STATIC_FORCEINLINE bool
@@ -79,11 +79,12 @@ mc_deadtime_comp_apply_f32(const mc_deadtime_comp_f32_t *dc,
     if (!dc->active) {
         return false;
     }
-    /* through locals: the caller's duties and currents stay in registers
-     * on the common path (their addresses are not taken) */
+    /* the currents by value, the duties through a local: the caller's
+     * stay in registers on the common path (their addresses are not
+     * taken) */
     float d[3] = { duty[0], duty[1], duty[2] };
-    const float i[3] = { i_abc_A[0], i_abc_A[1], i_abc_A[2] };
-    const bool limited = mc_deadtime_comp_apply_active_f32(dc, i, v_dc_V, d);
+    const bool limited = mc_deadtime_comp_apply_active_f32(
+        dc, i_abc_A[0], i_abc_A[1], i_abc_A[2], v_dc_V, d);
     for (uint32_t k = 0u; k < 3u; ++k) {
         duty[k] = d[k];
     }

@@ -105,15 +105,16 @@ typedef struct {
  * Interrupt context: no (init only). */
 mc_status_t mc_fault_limits_validate(const mc_fault_limits_t *limits);
 
-/* Causes present in one sample of phase currents (A, offset-corrected) and
- * DC-bus voltage (V). check_undervoltage: false while the drive is IDLE
+/* Causes present in one sample of phase currents (A, offset-corrected;
+ * by value, so a fast path's caller keeps them in registers) and DC-bus
+ * voltage (V). check_undervoltage: false while the drive is IDLE
  * (the bus may legitimately be down); the application checks it in every
  * other state, FAULT included, so a clear waits for the bus. A non-finite
  * current or voltage gives MC_FAULT_NONFINITE (and no other bit for that
  * quantity).
  * Interrupt context: yes (bounded, no division). */
-uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits,
-                                const float i_abc_A[3], float v_dc_V,
+uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits, float i_a_A,
+                                float i_b_A, float i_c_A, float v_dc_V,
                                 bool check_undervoltage);
 
 /* The bus voltage within its limits (each comparison false for a NaN; an
@@ -126,17 +127,6 @@ MC_STATIC_FORCEINLINE bool mc_faults_bus_clear(const mc_fault_limits_t *limits,
     return v_dc_V <= limits->v_dc_max_V &&
            (v_dc_V >= limits->v_dc_min_V ||
             (!check_undervoltage && v_dc_V >= -FLT_MAX));
-}
-
-/* mc_faults_check_sample through a copy of the currents, for the fast
- * paths' uncommon case: the caller's currents stay in registers on the
- * common path (their address is not taken). Interrupt context: yes. */
-MC_STATIC_FORCEINLINE uint32_t mc_faults_check_sample_copy(
-    const mc_fault_limits_t *limits, const float i_abc_A[3], float v_dc_V,
-    bool check_undervoltage)
-{
-    const float i[3] = { i_abc_A[0], i_abc_A[1], i_abc_A[2] };
-    return mc_faults_check_sample(limits, i, v_dc_V, check_undervoltage);
 }
 
 /* The same result, for the fast ISR: one chain of comparisons decides
@@ -153,8 +143,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_faults_check_sample_fast(
         mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
         return MC_FAULT_NONE;
     }
-    return mc_faults_check_sample_copy(limits, i_abc_A, v_dc_V,
-                                       check_undervoltage);
+    return mc_faults_check_sample(limits, i_abc_A[0], i_abc_A[1], i_abc_A[2],
+                                  v_dc_V, check_undervoltage);
 }
 
 /* For a drive whose phase-current levels the HAL's comparators watch
@@ -170,8 +160,8 @@ MC_STATIC_FORCEINLINE uint32_t mc_faults_check_bus_fast(
     if (mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
         return MC_FAULT_NONE;
     }
-    return mc_faults_check_sample_copy(limits, i_abc_A, v_dc_V,
-                                       check_undervoltage);
+    return mc_faults_check_sample(limits, i_abc_A[0], i_abc_A[1], i_abc_A[2],
+                                  v_dc_V, check_undervoltage);
 }
 
 #endif /* MC_FAULTS_H */

@@ -515,7 +515,8 @@ static void test_fault_check_sample_grid(void **state)
                         exp_mask |= MC_FAULT_DC_UNDERVOLTAGE;
                     }
                 }
-                assert_int_equal(mc_faults_check_sample(&lim, i3, volts[v], uv != 0), exp_mask);
+                assert_int_equal(
+                    mc_faults_check_sample(&lim, i3[0], i3[1], i3[2], volts[v], uv != 0), exp_mask);
                 assert_int_equal(mc_faults_check_sample_fast(&lim, i3, volts[v], uv != 0),
                                  exp_mask);
                 assert_int_equal(mc_faults_check_bus_fast(&lim, i3, volts[v], uv != 0),
