@@ -354,7 +354,6 @@ static uint32_t apply_injections(sim_engine_t *e, plant_measurement_t *m, bool *
     return active;
 }
 
-/* Measurement -> mailbox (the ADC and encoder registers of the host). */
 /* An armed comparator (trip_A > 0) trips on a phase current beyond the
  * level (an infinite one included; NaN does not compare). */
 static bool overcurrent(float trip_A, const double i_abc_A[3])
@@ -370,6 +369,7 @@ static bool overcurrent(float trip_A, const double i_abc_A[3])
     return false;
 }
 
+/* Measurement -> mailbox (the ADC and encoder registers of the host). */
 static void fill_mailbox(hal_sim_mailbox_t *mb, const plant_measurement_t *m, bool fault_input)
 {
     for (unsigned k = 0u; k < 3u; ++k) {
