@@ -55,7 +55,7 @@ uint32_t mc_app_align(mc_app_t *app, const mc_frame_t *fr, mc_telemetry_t *t)
     if (faults == MC_FAULT_NONE) {
         mc_drive_current_step(&app->drive, t);
         mc_app_out_t out; /* the ISR's write phase reads *t */
-        linear = mc_app_modulate(app, fr, t->v_d_V, t->v_q_V, t, &out);
+        linear = mc_app_modulate(app, fr, t->v_d_V, t->v_q_V, true, t, &out);
     }
     faults |= mc_app_check_outputs(t, linear);
     if (faults == MC_FAULT_NONE && st == MC_ALIGN_DONE) {

@@ -18,7 +18,8 @@
 #include "mc/svpwm.h"
 
 /* v_d_V, v_q_V (as in *t, or limited) -> duties: inverse Park at the
- * voltage angle (advanced by the delay compensation, mc/delay_comp.h),
+ * voltage angle (advanced by the delay compensation, mc/delay_comp.h, its
+ * advance updated from this sample's speed estimate if track_advance),
  * SVPWM with the circle limit, the dead-time compensation, on the bus
  * fr->v_dc_V the sample check has found positive and normal
  * (mc_app_t.protection_powered). The duties and the alpha/beta voltage the
@@ -32,13 +33,17 @@
  * Interrupt context: yes. */
 MC_STATIC_FORCEINLINE bool mc_app_modulate(mc_app_t *app, const mc_frame_t *fr,
                                            float v_d_V, float v_q_V,
+                                           bool track_advance,
                                            mc_telemetry_t *t, mc_app_out_t *out)
 {
+    if (track_advance) {
+        mc_delay_comp_track_f32(&app->delay_comp,
+                                app->drive.n_p * t->omega_m_rad_s);
+    }
     float s;
     float c;
-    mc_delay_comp_sincos_f32(&app->delay_comp, t->theta_e_rad,
-                             app->drive.n_p * t->omega_m_rad_s, fr->sc.sin_e,
-                             fr->sc.cos_e, &s, &c);
+    mc_delay_comp_sincos_f32(&app->delay_comp, fr->sc.sin_e, fr->sc.cos_e, &s,
+                             &c);
     float v_al;
     float v_be;
     mc_inv_park_f32(v_d_V, v_q_V, s, c, &v_al, &v_be);
@@ -127,7 +132,9 @@ mc_app_run(mc_app_t *app, const mc_command_t *cmd, const mc_frame_t *fr,
     app->drive.v_q_last_V = v_q;
     bool linear = false;
     if (faults == MC_FAULT_NONE) {
-        linear = mc_app_modulate(app, fr, v_d, v_q, t, out);
+        /* the advance: on the slow tick (mc/delay_comp.h) */
+        linear =
+            mc_app_modulate(app, fr, v_d, v_q, app->drive.outer.tick, t, out);
     }
     faults |= mc_app_check_outputs(t, linear);
     if (check_position_ref && mc_app_position_ref_nonfinite(cmd)) {

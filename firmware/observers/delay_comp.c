@@ -18,6 +18,8 @@ mc_status_t mc_delay_comp_init_f32(mc_delay_comp_f32_t *dc, float Ts_s,
     }
     dc->advance_s = delay_periods * Ts_s;
     dc->enabled = enabled;
+    dc->sin_advance = 0.0f;
+    dc->cos_advance = 1.0f;
     return MC_OK;
 }
 

@@ -223,29 +223,23 @@ MC_STATIC_FORCEINLINE void mc_sincos_inline_f32(float theta_rad, float *sin_out,
     mc_sincos_in_range_f32(theta_rad, sin_out, cos_out);
 }
 
-/* |delta| up to which mc_rotate_small_f32 rotates by a short series, rad. */
-#define MC_ROTATE_SERIES_MAX_RAD 0.25f
+/* |delta| up to which mc_sincos_small_f32 sums its series, rad. */
+#define MC_SINCOS_SERIES_MAX_RAD 0.25f
 
-/* (s, c) = sin, cos of some theta -> *s_out, *c_out = sin, cos of
- * theta + delta, for |delta| <= MC_ROTATE_SERIES_MAX_RAD: the rotation by
- * delta with its sine and cosine from their Taylor series to the 5th and
- * 6th power (remainders below 1.2e-8 and 4e-10, under float32's
- * resolution). Returns false (outputs untouched) for a larger or a
- * non-finite delta: the caller computes the sine and cosine of the sum.
- * Interrupt context: yes. */
-MC_STATIC_FORCEINLINE bool mc_rotate_small_f32(float s, float c, float delta,
-                                               float *s_out, float *c_out)
+/* sin, cos of a small angle delta, |delta| <= MC_SINCOS_SERIES_MAX_RAD:
+ * their Taylor series to the 5th and 6th power (remainders below 1.2e-8
+ * and 4e-10, under float32's resolution). Returns false (outputs
+ * untouched) for a larger or a non-finite delta: the caller takes
+ * mc_sincos_f32. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE bool mc_sincos_small_f32(float delta, float *sin_out,
+                                               float *cos_out)
 {
-    if (!(fabsf(delta) <= MC_ROTATE_SERIES_MAX_RAD)) { /* also NaN */
+    if (!(fabsf(delta) <= MC_SINCOS_SERIES_MAX_RAD)) { /* also NaN */
         return false;
     }
     const float d2 = delta * delta;
-    const float s_d =
-        delta * (1.0f - d2 * (1.0f / 6.0f - d2 * (1.0f / 120.0f)));
-    const float c_d =
-        1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f - d2 * (1.0f / 720.0f)));
-    *s_out = s * c_d + c * s_d;
-    *c_out = c * c_d - s * s_d;
+    *sin_out = delta * (1.0f - d2 * (1.0f / 6.0f - d2 * (1.0f / 120.0f)));
+    *cos_out = 1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f - d2 * (1.0f / 720.0f)));
     return true;
 }
 

@@ -21,7 +21,12 @@
  *    sinc(omega_e Ts / 2) ~ 1). So the inverse Park uses
  *      theta_v = theta_e_hat + omega_e_hat * d * Ts.
  *    Disabled: theta_v = theta_e_hat (its closed-loop effect is measured
- *    later on the bench).
+ *    later on the bench). The advance's sine and cosine are held between
+ *    updates (mc_delay_comp_track_f32): the drive updates them on its slow
+ *    tick, so the advance lags the speed by at most a slow period, an
+ *    angle error of n_p |d omega_m| d Ts (e.g. 2.7e-5 rad for a change of
+ *    1 rad/s over that period with the paper 001 motor at 20 kHz, d =
+ *    1.5), and the fast ISR between ticks only rotates.
  * 2) Voltage applied over the last sample interval [t_{k-1}, t_k], needed by
  *    the flux observer (mc/flux_observer.h): commands v_j hold on
  *    [t_j + (d - 1/2) Ts, t_{j+1} + (d - 1/2) Ts], so with w = d - 1/2
@@ -53,48 +58,60 @@
 typedef struct {
     float advance_s; /* d * Ts */
     bool enabled;
+    /* sine and cosine of the advance omega_e d Ts at the last
+     * mc_delay_comp_track_f32 */
+    float sin_advance, cos_advance;
 } mc_delay_comp_f32_t;
 
 /* Validate Ts_s > 0 and 0.5 <= delay_periods <= 1.5 (finite), store
- * d * Ts. MC_ERR_NONFINITE / MC_ERR_PARAM (*dc untouched).
- * Interrupt context: no. */
+ * d * Ts, hold a zero advance. MC_ERR_NONFINITE / MC_ERR_PARAM (*dc
+ * untouched). Interrupt context: no. */
 mc_status_t mc_delay_comp_init_f32(mc_delay_comp_f32_t *dc, float Ts_s,
                                    float delay_periods, bool enabled);
 
-/* Switch the advance on or off. Interrupt context: yes. */
+/* Switch the advance on or off (the held advance: the next
+ * mc_delay_comp_track_f32's). Interrupt context: yes. */
 static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
                                             bool enabled)
 {
     dc->enabled = enabled;
 }
 
+/* Hold the sine and cosine of the advance omega_e_rad_s * d * Ts (zero
+ * advance if disabled): the short series of mc_sincos_small_f32 up to
+ * MC_SINCOS_SERIES_MAX_RAD (3300 rad/s electrical at 20 kHz with d =
+ * 1.5), beyond it mc_sincos_f32. NaN for a non-finite speed when enabled.
+ * Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void mc_delay_comp_track_f32(mc_delay_comp_f32_t *dc,
+                                                   float omega_e_rad_s)
+{
+    const float delta = dc->enabled ? omega_e_rad_s * dc->advance_s : 0.0f;
+    float s;
+    float c;
+    if (!mc_sincos_small_f32(delta, &s, &c)) {
+        mc_sincos_f32(delta, &s, &c);
+    }
+    dc->sin_advance = s;
+    dc->cos_advance = c;
+}
+
 /* Sine and cosine of the angle for the inverse Park of the voltage computed
- * now, theta_v = theta_e_rad + omega_e_rad_s * d * Ts if enabled, else
- * theta_e_rad, given s_e, c_e = sin, cos of theta_e_rad: (s_e, c_e) rotated
- * by the advance (mc_rotate_small_f32) up to MC_ROTATE_SERIES_MAX_RAD
- * (3300 rad/s electrical at 20 kHz with d = 1.5); beyond, mc_sincos_f32
- * of the sum. NaN for non-finite inputs when enabled. Interrupt context:
- * yes. */
+ * now, theta_v = theta_e + the held advance (theta_e if disabled), given
+ * s_e, c_e = sin, cos of theta_e: (s_e, c_e) rotated by the advance. NaN
+ * for a non-finite input or advance when enabled. Interrupt context: yes. */
 MC_STATIC_FORCEINLINE void
-mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float theta_e_rad,
-                         float omega_e_rad_s, float s_e, float c_e, float *s_v,
-                         float *c_v)
+mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float s_e, float c_e,
+                         float *s_v, float *c_v)
 {
     if (!dc->enabled) {
         *s_v = s_e;
         *c_v = c_e;
         return;
     }
-    const float delta = omega_e_rad_s * dc->advance_s;
-    if (!mc_rotate_small_f32(s_e, c_e, delta, s_v, c_v)) {
-        /* through locals: the caller's outputs stay in registers on the
-         * common path (their address is not taken) */
-        float s_sum;
-        float c_sum;
-        mc_sincos_f32(theta_e_rad + delta, &s_sum, &c_sum);
-        *s_v = s_sum;
-        *c_v = c_sum;
-    }
+    const float s_a = dc->sin_advance;
+    const float c_a = dc->cos_advance;
+    *s_v = s_e * c_a + c_e * s_a;
+    *c_v = c_e * c_a - s_e * s_a;
 }
 
 typedef struct {

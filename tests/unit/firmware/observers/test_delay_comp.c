@@ -1,7 +1,8 @@
 /*
  * PWM / computation delay helpers (mc/delay_comp.h):
- * - the advanced angle (its sine and cosine: a rotation by a series for
- *   small advances, a sine and cosine of the sum beyond) makes the voltage,
+ * - the advanced angle (a rotation by the advance, whose sine and cosine,
+ *   from a series for small advances and mc_sincos_f32 beyond, are held
+ *   from the last track) makes the voltage,
  *   averaged over the interval where it is really applied and seen in the
  *   true rotor frame, point where it was commanded (analytic average of the
  *   rotation over the interval); without the advance it lags by
@@ -42,12 +43,13 @@ static void mean_rotor_frame_voltage(double theta0, double w, double t0, double 
     out[1] = -C * x + S * y;
 }
 
-/* theta_v of the advance from its sine and cosine (double). */
-static double advanced_angle(const mc_delay_comp_f32_t *dc, float theta, float w)
+/* theta_v of the advance tracked at w from its sine and cosine (double). */
+static double advanced_angle(mc_delay_comp_f32_t *dc, float theta, float w)
 {
     float s_v;
     float c_v;
-    mc_delay_comp_sincos_f32(dc, theta, w, sinf(theta), cosf(theta), &s_v, &c_v);
+    mc_delay_comp_track_f32(dc, w);
+    mc_delay_comp_sincos_f32(dc, sinf(theta), cosf(theta), &s_v, &c_v);
     assert_near(hypot(s_v, c_v), 1.0, 1e-6);
     return atan2((double)s_v, (double)c_v);
 }
@@ -89,19 +91,41 @@ static void test_advance_aligns_applied_voltage(void **state)
     assert_int_equal(mc_delay_comp_init_f32(&dc, (float)TS, 1.5f, false), MC_OK);
     float s_v;
     float c_v;
-    mc_delay_comp_sincos_f32(&dc, 1.0f, 1000.0f, 0.25f, 0.5f, &s_v, &c_v);
+    mc_delay_comp_track_f32(&dc, 1000.0f);
+    mc_delay_comp_sincos_f32(&dc, 0.25f, 0.5f, &s_v, &c_v);
     assert_true(s_v == 0.25f && c_v == 0.5f);
     mc_delay_comp_enable_f32(&dc, true);
     assert_near(advanced_angle(&dc, 1.0f, 1000.0f), 1.0 + 1000.0 * 1.5 * TS, 1e-6);
     /* past pi */
     assert_near(advanced_angle(&dc, 3.14f, 1000.0f), 3.14 + 0.075 - MC_TEST_TWO_PI, 1e-6);
-    /* non-finite inputs: NaN, in the series and beyond it */
-    const float bad[][2] = { { NAN, 1000.0f }, { 0.0f, INFINITY }, { 0.0f, NAN } };
-    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-        mc_delay_comp_sincos_f32(&dc, bad[k][0], bad[k][1], sinf(bad[k][0]), cosf(bad[k][0]), &s_v,
-                                 &c_v);
+    /* held: the advance of the last track, whatever the angle */
+    mc_delay_comp_track_f32(&dc, -2000.0f);
+    for (int k = 0; k < 3; k++) {
+        mc_delay_comp_sincos_f32(&dc, sinf(0.5f * (float)k), cosf(0.5f * (float)k), &s_v, &c_v);
+        assert_near(atan2((double)s_v, (double)c_v), 0.5 * k - 2000.0 * 1.5 * TS, 1e-6);
+    }
+    /* non-finite: a speed (in the series and beyond it) or an angle */
+    const float bad_w[] = { INFINITY, NAN };
+    for (size_t k = 0; k < sizeof bad_w / sizeof bad_w[0]; k++) {
+        mc_delay_comp_track_f32(&dc, bad_w[k]);
+        mc_delay_comp_sincos_f32(&dc, 0.0f, 1.0f, &s_v, &c_v);
         assert_true(isnan(s_v) && isnan(c_v));
     }
+    mc_delay_comp_track_f32(&dc, 1000.0f);
+    mc_delay_comp_sincos_f32(&dc, NAN, NAN, &s_v, &c_v);
+    assert_true(isnan(s_v) && isnan(c_v));
+}
+
+/* Initialised, the held advance is zero until the first track. */
+static void test_initial_advance_is_zero(void **state)
+{
+    (void)state;
+    mc_delay_comp_f32_t dc;
+    assert_int_equal(mc_delay_comp_init_f32(&dc, (float)TS, 1.5f, true), MC_OK);
+    float s_v;
+    float c_v;
+    mc_delay_comp_sincos_f32(&dc, 0.6f, 0.8f, &s_v, &c_v);
+    assert_true(s_v == 0.6f && c_v == 0.8f);
 }
 
 /* Applied voltage: commands v_j (one per ISR j, at t_j = j Ts) hold on
@@ -178,6 +202,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_advance_aligns_applied_voltage),
+        cmocka_unit_test(test_initial_advance_is_zero),
         cmocka_unit_test(test_applied_voltage_is_interval_mean),
         cmocka_unit_test(test_config_and_nonfinite),
     };
