@@ -115,7 +115,7 @@ MC_STATIC_FORCEINLINE bool raise_faults(mc_app_t *app, uint32_t faults,
 MC_STATIC_FORCEINLINE bool raise_faults_in_run(mc_app_t *app, uint32_t faults,
                                                const mc_telemetry_t *t)
 {
-    if (faults != MC_FAULT_NONE) {
+    if (MC_UNLIKELY(faults != MC_FAULT_NONE)) {
         latch_faults_of(app, faults, t);
         return true;
     }
@@ -353,10 +353,10 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
             ? mc_faults_check_bus_fast(limits, t->i_abc_A, t->v_dc_V, check_uv)
             : mc_faults_check_sample_fast(limits, t->i_abc_A, t->v_dc_V,
                                           check_uv);
-    if (hal_pwm_overcurrent_active()) {
+    if (MC_UNLIKELY(hal_pwm_overcurrent_active())) {
         active |= MC_FAULT_OVERCURRENT;
     }
-    if (hal_gpio_fault_input_active()) {
+    if (MC_UNLIKELY(hal_gpio_fault_input_active())) {
         active |= MC_FAULT_EXTERNAL;
     }
     if (!steady && cmd->comm_lost) {
@@ -381,7 +381,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     }
     /* the currents for the EMF check of the next slow tick: a steady ISR
      * keeps them only before one (slow_left counted down to 0 above) */
-    if (!steady || app->slow_left == 0u) {
+    if (!steady || MC_UNLIKELY(app->slow_left == 0u)) {
         mc_emf_monitor_remember_f32(&app->emf.mon, fr.in.i_alpha_A,
                                     fr.in.i_beta_A);
     }
@@ -453,7 +453,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
     /* The rest is constant in RUN (no active fault; the overruns written
      * above when they change): a steady ISR still in RUN finds it in the
      * record. */
-    if (!steady || stopped) {
+    if (!steady || MC_UNLIKELY(stopped)) {
         t->isr_overruns = app->isr_overruns;
         t->faults_active = active;
         t->state = app->state;
@@ -483,7 +483,7 @@ MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
                               ? mc_app_run_key(true, false, cmd->clear_fault,
                                                false, app->mode)
                               : MC_APP_NO_RUN_KEY;
-    } else if (!next_steady) { /* else the key stays: the same mode */
+    } else if (MC_UNLIKELY(!next_steady)) { /* else the key stays */
         app->steady_key = MC_APP_NO_RUN_KEY;
     }
 }

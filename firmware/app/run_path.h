@@ -115,6 +115,8 @@ mc_app_run(mc_app_t *app, const mc_command_t *cmd, const mc_frame_t *fr,
            mc_telemetry_t *t, bool check_position_ref, mc_app_out_t *out)
 {
     t->theta_m_ref_rad = cmd->theta_m_ref_rad;
+    /* read before the controller's stores: a steady ISR's constant */
+    const bool slow_tick = app->drive.outer.tick;
     /* The bus of every voltage computation of the sample passed this
      * ISR's sample check (mc_app_t.protection_powered): positive and
      * normal. */
@@ -133,8 +135,7 @@ mc_app_run(mc_app_t *app, const mc_command_t *cmd, const mc_frame_t *fr,
     bool linear = false;
     if (faults == MC_FAULT_NONE) {
         /* the advance: on the slow tick (mc/delay_comp.h) */
-        linear =
-            mc_app_modulate(app, fr, v_d, v_q, app->drive.outer.tick, t, out);
+        linear = mc_app_modulate(app, fr, v_d, v_q, slow_tick, t, out);
     }
     faults |= mc_app_check_outputs(t, linear);
     if (check_position_ref && mc_app_position_ref_nonfinite(cmd)) {

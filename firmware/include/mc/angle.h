@@ -93,7 +93,7 @@ float mc_wrap_pi_f32(float theta_rad);
  */
 MC_STATIC_FORCEINLINE float mc_wrap_pi_near_f32(float theta_rad)
 {
-    if (fabsf(theta_rad) < MC_PI_F) {
+    if (MC_LIKELY(fabsf(theta_rad) < MC_PI_F)) {
         return theta_rad; /* the common case; false for NaN */
     }
     float r;

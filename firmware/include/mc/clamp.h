@@ -15,7 +15,7 @@
  * Interrupt context: yes. */
 MC_STATIC_FORCEINLINE float mc_clamp_sym_f32(float x, float limit)
 {
-    return (fabsf(x) > limit) ? copysignf(limit, x) : x;
+    return MC_UNLIKELY(fabsf(x) > limit) ? copysignf(limit, x) : x;
 }
 
 #endif /* MC_CLAMP_H */

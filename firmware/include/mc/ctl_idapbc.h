@@ -63,7 +63,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
 {
     const float tau_lim = ctl->tau_max_Nm;
     float tau = t->tau_L_hat_Nm;
-    if (ctl->integral_enabled) {
+    if (MC_UNLIKELY(ctl->integral_enabled)) { /* off by default */
         /* unchecked: NaN for a non-finite speed all the same (mc/pi.h);
          * start and mode changes reset the integrator */
         tau += mc_pi_step_unchecked_f32(&ctl->integral, t->omega_m_ref_rad_s -
@@ -79,7 +79,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_ctl_idapbc_voltages(mc_ctl_idapbc_t *ctl,
      * plausibility bounds or already a fault). */
     /* unchecked: a non-finite voltage is the application's output check's
      * MC_FAULT_NONFINITE */
-    if (!ctl->paper_rotation) {
+    if (MC_LIKELY(!ctl->paper_rotation)) { /* the default */
         const mc_idapbc_voltages_t v = mc_idapbc_voltages_unchecked_f32(
             &ctl->law, t->i_d_A, t->i_q_A, t->omega_m_ref_rad_s,
             t->omega_m_rad_s, tau);

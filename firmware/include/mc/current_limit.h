@@ -73,7 +73,7 @@ MC_STATIC_FORCEINLINE bool mc_current_limit_step_f32(mc_current_limit_f32_t *cl,
                                                      float *v_d_V, float *v_q_V)
 {
     const float i_sq = i_d_A * i_d_A + i_q_A * i_q_A;
-    if (i_sq <= cl->limit_sq_A2 && cl->u_int_V == 0.0f) {
+    if (MC_LIKELY(i_sq <= cl->limit_sq_A2 && cl->u_int_V == 0.0f)) {
         return false; /* the common case: no square root (a NaN current
                          goes on and propagates into the command) */
     }

@@ -76,7 +76,7 @@ MC_STATIC_FORCEINLINE bool
 mc_deadtime_comp_apply_f32(const mc_deadtime_comp_f32_t *dc,
                            const float i_abc_A[3], float v_dc_V, float duty[3])
 {
-    if (!dc->active) {
+    if (MC_LIKELY(!dc->active)) { /* off by default */
         return false;
     }
     /* the currents by value, the duties through a local: the caller's

@@ -103,7 +103,7 @@ MC_STATIC_FORCEINLINE void
 mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float s_e, float c_e,
                          float *s_v, float *c_v)
 {
-    if (!dc->enabled) {
+    if (MC_UNLIKELY(!dc->enabled)) { /* on by default */
         *s_v = s_e;
         *c_v = c_e;
         return;

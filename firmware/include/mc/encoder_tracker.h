@@ -97,7 +97,7 @@ mc_status_t mc_encoder_tracker_init_f32(mc_encoder_tracker_f32_t *et,
  * library call on the M4). Interrupt context: yes. */
 MC_STATIC_FORCEINLINE float mc_encoder_counts_to_f32(int64_t x)
 {
-    return (x == (int64_t)(int32_t)x) ? (float)(int32_t)x : (float)x;
+    return MC_LIKELY(x == (int64_t)(int32_t)x) ? (float)(int32_t)x : (float)x;
 }
 
 /* One sample: count in [0, cpr) (MC_ERR_RANGE otherwise, state unchanged,
@@ -138,16 +138,16 @@ MC_STATIC_FORCEINLINE mc_status_t mc_encoder_tracker_update_inline_f32(
      * (counts below cpr <= 2^23: 32 bits suffice). */
     int32_t delta = (int32_t)count - (int32_t)et->last_count;
     const int32_t half = (int32_t)(et->cpr / 2u);
-    if (delta >= half) {
+    if (MC_UNLIKELY(delta >= half)) {
         delta -= (int32_t)et->cpr;
-    } else if (delta < -half) {
+    } else if (MC_UNLIKELY(delta < -half)) {
         delta += (int32_t)et->cpr;
     }
     et->position_counts += delta;
     et->last_count = count;
     const uint32_t step = (uint32_t)(delta < 0 ? -delta : delta);
     out->count_jump = step > et->step_max_counts;
-    if (out->count_jump) {
+    if (MC_UNLIKELY(out->count_jump)) {
         et->theta_hat_rad = theta_meas; /* follow it (header) */
     }
 

@@ -118,15 +118,16 @@ uint32_t mc_faults_check_sample(const mc_fault_limits_t *limits, float i_a_A,
                                 bool check_undervoltage);
 
 /* The bus voltage within its limits (each comparison false for a NaN; an
- * infinite voltage exceeds the maximum or -FLT_MAX). Interrupt context:
- * yes. */
+ * infinite voltage exceeds the maximum or -FLT_MAX): at most v_dc_max_V,
+ * and at least v_dc_min_V, or without the under-voltage check -FLT_MAX
+ * (the validated v_dc_min_V >= 0 is above it: the same as "v_dc_min_V or
+ * else -FLT_MAX"). Interrupt context: yes. */
 MC_STATIC_FORCEINLINE bool mc_faults_bus_clear(const mc_fault_limits_t *limits,
                                                float v_dc_V,
                                                bool check_undervoltage)
 {
-    return v_dc_V <= limits->v_dc_max_V &&
-           (v_dc_V >= limits->v_dc_min_V ||
-            (!check_undervoltage && v_dc_V >= -FLT_MAX));
+    const float v_min_V = check_undervoltage ? limits->v_dc_min_V : -FLT_MAX;
+    return MC_LIKELY(v_dc_V <= limits->v_dc_max_V && v_dc_V >= v_min_V);
 }
 
 /* The same result, for the fast ISR: one chain of comparisons decides
@@ -138,9 +139,9 @@ MC_STATIC_FORCEINLINE uint32_t mc_faults_check_sample_fast(
     bool check_undervoltage)
 {
     const float i_max = limits->i_trip_A;
-    if (fabsf(i_abc_A[0]) <= i_max && fabsf(i_abc_A[1]) <= i_max &&
-        fabsf(i_abc_A[2]) <= i_max &&
-        mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
+    if (MC_LIKELY(fabsf(i_abc_A[0]) <= i_max && fabsf(i_abc_A[1]) <= i_max &&
+                  fabsf(i_abc_A[2]) <= i_max &&
+                  mc_faults_bus_clear(limits, v_dc_V, check_undervoltage))) {
         return MC_FAULT_NONE;
     }
     return mc_faults_check_sample(limits, i_abc_A[0], i_abc_A[1], i_abc_A[2],
@@ -157,7 +158,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_faults_check_bus_fast(
     const mc_fault_limits_t *limits, const float i_abc_A[3], float v_dc_V,
     bool check_undervoltage)
 {
-    if (mc_faults_bus_clear(limits, v_dc_V, check_undervoltage)) {
+    if (MC_LIKELY(mc_faults_bus_clear(limits, v_dc_V, check_undervoltage))) {
         return MC_FAULT_NONE;
     }
     return mc_faults_check_sample(limits, i_abc_A[0], i_abc_A[1], i_abc_A[2],

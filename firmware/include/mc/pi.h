@@ -142,7 +142,7 @@ mc_pi_step_centred_unchecked_f32(mc_pi_f32_t *pi, float error, float centre,
 {
     const float integ = pi->integrator + pi->ki_Ts * error;
     const float u = pi->kp * error + integ;
-    if (fabsf(u - centre) < half && fabsf(integ - centre) <= half) {
+    if (MC_LIKELY(fabsf(u - centre) < half && fabsf(integ - centre) <= half)) {
         pi->integrator = integ;
         *at_limit = false;
         return u;

@@ -42,7 +42,10 @@ static inline float hal_duty_outside_unit_f32(float d)
 static inline __attribute__((always_inline)) float
 hal_duty_saturate_f32(float d)
 {
-    return hal_duty_bits_in_unit(d) ? d : hal_duty_outside_unit_f32(d);
+    /* the common case laid out as the fall-through */
+    return __builtin_expect(hal_duty_bits_in_unit(d), 1)
+               ? d
+               : hal_duty_outside_unit_f32(d);
 }
 
 #endif /* HAL_PWM_DUTY_H */
