@@ -273,7 +273,7 @@ static void state_machine(mc_app_t *app, const mc_command_t *cmd,
  * telemetry record (false only in the steady instance without the slow
  * tick, which runs with timing.telemetry_every_isr off; with it on, the
  * general instance runs those ISRs). Each instance inlines the whole
- * control path (about 12 kB of flash each at -Os): the slow tick's own
+ * control path (15 to 16 kB of flash each at -O2): the slow tick's own
  * instance saves its ISR the general one's state handling, about 100
  * instructions. */
 MC_STATIC_FORCEINLINE void isr_body(mc_app_t *app, const mc_command_t *cmd,
