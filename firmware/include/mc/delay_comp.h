@@ -69,7 +69,7 @@ typedef struct {
 mc_status_t mc_delay_comp_init_f32(mc_delay_comp_f32_t *dc, float Ts_s,
                                    float delay_periods, bool enabled);
 
-/* Switch the advance on or off (the held advance: the next
+/* Switch the advance on or off (the held advance: the last
  * mc_delay_comp_track_f32's). Interrupt context: yes. */
 static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
                                             bool enabled)
@@ -77,15 +77,15 @@ static inline void mc_delay_comp_enable_f32(mc_delay_comp_f32_t *dc,
     dc->enabled = enabled;
 }
 
-/* Hold the sine and cosine of the advance omega_e_rad_s * d * Ts (zero
- * advance if disabled): the short series of mc_sincos_small_f32 up to
- * MC_SINCOS_SERIES_MAX_RAD (3300 rad/s electrical at 20 kHz with d =
- * 1.5), beyond it mc_sincos_f32. NaN for a non-finite speed when enabled.
+/* Hold the sine and cosine of the advance omega_e_rad_s * d * Ts (used
+ * only while enabled: mc_delay_comp_sincos_f32): the short series of
+ * mc_sincos_small_f32 up to MC_SINCOS_SERIES_MAX_RAD (3300 rad/s electrical at
+ * 20 kHz with d = 1.5), beyond it mc_sincos_f32. NaN for a non-finite speed.
  * Interrupt context: yes. */
 MC_STATIC_FORCEINLINE void mc_delay_comp_track_f32(mc_delay_comp_f32_t *dc,
                                                    float omega_e_rad_s)
 {
-    const float delta = dc->enabled ? omega_e_rad_s * dc->advance_s : 0.0f;
+    const float delta = omega_e_rad_s * dc->advance_s;
     float s;
     float c;
     if (!mc_sincos_small_f32(delta, &s, &c)) {
