@@ -70,22 +70,22 @@ uint32_t mc_flux_front_start(mc_flux_front_t *f, float theta_e_rad,
     return MC_FAULT_NONE;
 }
 
-uint32_t mc_flux_front_fault(const mc_flux_front_t *f, mc_flux_front_sample_t s,
-                             mc_flux_front_speed_t sp, float theta_m_rad,
-                             const mc_estimate_bounds_t *b)
+uint32_t mc_flux_front_fault(const mc_flux_front_t *f, float rho_sq,
+                             float obs_finite, float speed_finite,
+                             float theta_m_rad, float omega_m_rad_s,
+                             float tau_L_Nm, const mc_estimate_bounds_t *b)
 {
     const uint32_t rho_fault =
-        (s.rho_sq >= f->ratio_min_sq && s.rho_sq <= f->ratio_max_sq)
+        (rho_sq >= f->ratio_min_sq && rho_sq <= f->ratio_max_sq)
             ? MC_FAULT_NONE
             : MC_FAULT_ESTIMATE;
-    if (!(s.finite + sp.finite + theta_m_rad * 0.0f == 0.0f)) {
+    if (!(obs_finite + speed_finite + theta_m_rad * 0.0f == 0.0f)) {
         /* as the checked steps: the observer's first, the speed
          * estimator's only after a finite observer step */
-        return (s.finite == 0.0f) ? (rho_fault | MC_FAULT_NONFINITE)
-                                  : MC_FAULT_NONFINITE;
+        return (obs_finite == 0.0f) ? (rho_fault | MC_FAULT_NONFINITE)
+                                    : MC_FAULT_NONFINITE;
     }
-    return rho_fault |
-           (mc_estimate_bounds_hold(b, sp.omega_m_rad_s, sp.tau_L_Nm)
-                ? MC_FAULT_NONE
-                : MC_FAULT_ESTIMATE);
+    return rho_fault | (mc_estimate_bounds_hold(b, omega_m_rad_s, tau_L_Nm)
+                            ? MC_FAULT_NONE
+                            : MC_FAULT_ESTIMATE);
 }

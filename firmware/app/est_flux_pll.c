@@ -52,6 +52,5 @@ uint32_t mc_est_flux_pll_start(mc_est_flux_pll_t *est, float theta_e_rad,
     if (mc_pll_obs_reset_f32(&est->pll, theta_e_rad, 0.0f, 0.0f) != MC_OK) {
         return MC_FAULT_NONFINITE;
     }
-    mc_sincos_f32(est->pll.theta_e_rad, &est->sin_prev, &est->cos_prev);
     return mc_flux_front_start(&est->front, theta_e_rad, in);
 }

@@ -56,7 +56,7 @@ mc_status_t mc_current_loop_init_f32(mc_current_loop_f32_t *cl,
     cl->Ld_H = p->Ld_H;
     cl->Lq_H = p->Lq_H;
     cl->psi_Wb = p->psi_Wb;
-    cl->modulation_margin = m;
+    cl->v_max_per_V_dc = m * MC_INV_SQRT3_F;
     return MC_OK;
 }
 

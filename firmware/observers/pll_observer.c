@@ -47,8 +47,7 @@ mc_status_t mc_pll_obs_reset_f32(mc_pll_obs_f32_t *pll, float theta_e_rad,
     if (st != MC_OK) {
         return st;
     }
-    pll->theta_e_rad = theta;
-    pll->theta_comp_rad = 0.0f;
+    mc_sincos_f32(theta, &pll->sin_e, &pll->cos_e);
     pll->d_theta_e_rad = 0.0f;
     pll->omega_m_rad_s = omega_m_rad_s;
     pll->omega_comp_rad_s = 0.0f;
@@ -64,7 +63,10 @@ mc_status_t mc_pll_obs_step_f32(mc_pll_obs_f32_t *pll, float theta_obs_e_rad,
     }
     /* the step on a copy, kept only if finite (state untouched otherwise) */
     mc_pll_obs_f32_t next = *pll;
-    if (!(mc_pll_obs_update_f32(&next, theta_obs_e_rad, tau_e_ff_Nm) == 0.0f)) {
+    const float eps =
+        mc_angle_diff_f32(theta_obs_e_rad, mc_pll_obs_theta_e_f32(&next) +
+                                               next.np_Ts * next.omega_m_rad_s);
+    if (!(mc_pll_obs_correct_f32(&next, eps, tau_e_ff_Nm, true) == 0.0f)) {
         return MC_ERR_NONFINITE;
     }
     *pll = next;

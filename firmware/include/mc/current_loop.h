@@ -72,7 +72,7 @@ typedef struct {
 typedef struct {
     mc_pi_f32_t pi_d, pi_q;
     float Ld_H, Lq_H, psi_Wb;
-    float modulation_margin;
+    float v_max_per_V_dc; /* m / sqrt(3): the voltage limit per V of bus */
 } mc_current_loop_f32_t;
 
 /* Output of one step. */
@@ -136,7 +136,7 @@ MC_STATIC_FORCEINLINE mc_current_loop_out_t mc_current_loop_step_unchecked_f32(
     mc_current_loop_f32_t *cl, float i_d_A, float i_q_A, float i_d_ref_A,
     float i_q_ref_A, float omega_e_rad_s, float v_dc_V)
 {
-    const float v_max = cl->modulation_margin * v_dc_V * MC_INV_SQRT3_F;
+    const float v_max = cl->v_max_per_V_dc * v_dc_V;
     float ff_d;
     float ff_q;
     mc_current_loop_feed_forward_f32(cl, i_d_A, i_q_A, omega_e_rad_s, &ff_d,
@@ -147,12 +147,14 @@ MC_STATIC_FORCEINLINE mc_current_loop_out_t mc_current_loop_step_unchecked_f32(
     /* d axis first: the PI may use what the feed-forward leaves. */
     out.v_d_V = mc_current_loop_axis_f32(&cl->pi_d, v_max, ff_d,
                                          i_d_ref_A - i_d_A, &sat_d);
-    /* q axis: the rest of the circle (sqrt guarded: room_sq >
-     * room_min^2 >= 0; a NaN room_sq takes room_min). */
-    const float room_sq = v_max * v_max - out.v_d_V * out.v_d_V;
-    const float room_min = MC_CL_Q_ROOM_MIN * v_max;
+    /* q axis: the rest of the circle, at least room_min = MC_CL_Q_ROOM_MIN
+     * v_max (sqrt guarded: its argument >= room_min^2 >= 0; a NaN room_sq
+     * takes room_min). */
+    const float v_max_sq = v_max * v_max;
+    const float room_min_sq = (MC_CL_Q_ROOM_MIN * MC_CL_Q_ROOM_MIN) * v_max_sq;
+    const float room_sq = v_max_sq - out.v_d_V * out.v_d_V;
     const float v_q_max =
-        (room_sq > room_min * room_min) ? sqrtf(room_sq) : room_min;
+        sqrtf((room_sq > room_min_sq) ? room_sq : room_min_sq);
     out.v_q_V = mc_current_loop_axis_f32(&cl->pi_q, v_q_max, ff_q,
                                          i_q_ref_A - i_q_A, &sat_q);
     out.saturated = sat_d || sat_q;

@@ -17,6 +17,7 @@
 #define MC_EST_FLUX_FRONT_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "mc/angle.h"
@@ -94,7 +95,9 @@ typedef struct {
 
 /* What the speed estimator behind the front end made of the sample. */
 typedef struct {
-    float theta_e_rad;   /* the reported angle, (-pi, pi] */
+    float theta_e_rad;   /* the reported angle, (-pi, pi] (unused when the
+                            estimator gives its direction instead:
+                            mc_flux_front_finish's angle_sc) */
     float d_theta_e_rad; /* its increment over the interval */
     float omega_m_rad_s;
     float tau_L_Nm;
@@ -134,47 +137,45 @@ MC_STATIC_FORCEINLINE mc_flux_front_sample_t mc_flux_front_update(
     return s;
 }
 
-/* The sample's estimates into *t and the position into the front end.
- * Interrupt context: yes. */
-MC_STATIC_FORCEINLINE void
-mc_flux_front_publish(mc_flux_front_t *f, float rho_sq,
-                      const mc_flux_front_speed_t *sp, float theta_m_rad,
-                      mc_telemetry_t *t)
+/* The sample's estimates into *t and the position into the front end;
+ * the angle sp->theta_e_rad, or with the speed estimator's direction
+ * angle_sc (not NULL) its arctangent (mc_atan2_unchecked_f32: formed only
+ * where the record is written). Interrupt context: yes. */
+MC_STATIC_FORCEINLINE void mc_flux_front_publish(
+    mc_flux_front_t *f, float rho_sq, const mc_flux_front_speed_t *sp,
+    const mc_est_sincos_t *angle_sc, float theta_m_rad, mc_telemetry_t *t)
 {
     f->theta_m_rad = theta_m_rad;
     t->flux_ratio_sq = rho_sq;
-    t->theta_e_rad = sp->theta_e_rad;
+    t->theta_e_rad =
+        (angle_sc != NULL)
+            ? mc_atan2_unchecked_f32(angle_sc->sin_e, angle_sc->cos_e)
+            : sp->theta_e_rad;
     t->theta_m_rad = theta_m_rad;
     t->omega_m_rad_s = sp->omega_m_rad_s;
     t->tau_L_hat_Nm = sp->tau_L_Nm;
 }
 
 /* The fault bits of a sample that failed mc_flux_front_finish's common
- * case (see there); MC_FAULT_NONFINITE among them if and only if its
- * estimates are not all finite. Interrupt context: yes. */
-uint32_t mc_flux_front_fault(const mc_flux_front_t *f, mc_flux_front_sample_t s,
-                             mc_flux_front_speed_t sp, float theta_m_rad,
-                             const mc_estimate_bounds_t *b);
+ * case (see there), from its |rho_hat|^2, the observer's and the speed
+ * estimator's finiteness aggregates, the position and the speed and load
+ * estimates (by value: the common case keeps them in registers);
+ * MC_FAULT_NONFINITE among them if and only if its estimates are not all
+ * finite. Interrupt context: yes. */
+uint32_t mc_flux_front_fault(const mc_flux_front_t *f, float rho_sq,
+                             float obs_finite, float speed_finite,
+                             float theta_m_rad, float omega_m_rad_s,
+                             float tau_L_Nm, const mc_estimate_bounds_t *b);
 
-/* The sine and cosine of the reported angle theta_e_rad. observer_angle:
- * theta_e_rad is the observer's angle theta_obs = atan2(eta) (13) itself,
- * and they come from the flux estimate: eta / |eta| with |eta| =
- * |rho_hat| Phi, rho_sq = |rho_hat|^2 > 0 (the caller has checked it
- * against ratio_min), one square root and one division (measured on the
- * M4: 19 instructions fewer than the polynomial, the same cycles).
- * Otherwise mc_sincos_in_range_f32 (a rotation of eta / |eta| by
- * theta_e - theta_obs measured as many instructions and 40 cycles more).
- * Interrupt context: yes. */
+/* The sine and cosine of the observer's angle theta_obs = atan2(eta) (13)
+ * from the flux estimate: eta / |eta| with |eta| = |rho_hat| Phi, rho_sq
+ * = |rho_hat|^2 > 0 (the caller has checked it against ratio_min), one
+ * square root and one division (measured on the M4: 19 instructions
+ * fewer than the polynomial, the same cycles). Interrupt context: yes. */
 MC_STATIC_FORCEINLINE void mc_flux_front_sincos(const mc_flux_front_t *f,
-                                                float rho_sq, float theta_e_rad,
-                                                bool observer_angle,
+                                                float rho_sq,
                                                 mc_est_sincos_t *sc)
 {
-    if (!observer_angle) {
-        /* the caller's checked angle, wrapped to (-pi, pi] */
-        mc_sincos_in_range_f32(theta_e_rad, &sc->sin_e, &sc->cos_e);
-        return;
-    }
     const float inv_eta = f->obs.inv_psi_per_Wb / sqrtf(rho_sq);
     sc->sin_e = f->obs.eta_beta_Wb * inv_eta;
     sc->cos_e = f->obs.eta_alpha_Wb * inv_eta;
@@ -183,7 +184,9 @@ MC_STATIC_FORCEINLINE void mc_flux_front_sincos(const mc_flux_front_t *f,
 /* After the speed estimator's step: the multi-turn position from the
  * reported angle's increment / n_p, ONE finiteness test over the sample's
  * new states and outputs, the estimates into *t, the sine and cosine of
- * the angle in *t into *sc (observer_angle: mc_flux_front_sincos) and the
+ * the angle in *t into *sc (angle_sc: the speed estimator's direction,
+ * whose arctangent is its angle (mc_flux_front_publish); NULL: its angle
+ * sp->theta_e_rad is the observer's (13), mc_flux_front_sincos) and the
  * fault bits:
  * NONFINITE for a non-finite value (with ESTIMATE for an implausible
  * |rho_hat| if the observer's step itself was finite, as the checked
@@ -199,8 +202,8 @@ MC_STATIC_FORCEINLINE void mc_flux_front_sincos(const mc_flux_front_t *f,
 MC_STATIC_FORCEINLINE uint32_t mc_flux_front_finish(
     mc_flux_front_t *f, const mc_est_input_t *in,
     const mc_flux_front_sample_t *s, const mc_flux_front_speed_t *sp,
-    bool observer_angle, const mc_estimate_bounds_t *b, mc_telemetry_t *t,
-    mc_est_sincos_t *sc)
+    const mc_est_sincos_t *angle_sc, const mc_estimate_bounds_t *b,
+    mc_telemetry_t *t, mc_est_sincos_t *sc)
 {
     const float theta_m = f->theta_m_rad + sp->d_theta_e_rad * f->inv_n_p;
     /* the common case in one chain of comparisons, each false for NaN */
@@ -209,16 +212,22 @@ MC_STATIC_FORCEINLINE uint32_t mc_flux_front_finish(
         (!in->slow_tick ||
          (s->rho_sq <= f->ratio_max_sq &&
           mc_estimate_bounds_hold(b, sp->omega_m_rad_s, sp->tau_L_Nm)))) {
-        mc_flux_front_publish(f, s->rho_sq, sp, theta_m, t);
-        mc_flux_front_sincos(f, s->rho_sq, sp->theta_e_rad, observer_angle, sc);
+        mc_flux_front_publish(f, s->rho_sq, sp, angle_sc, theta_m, t);
+        if (angle_sc != NULL) {
+            *sc = *angle_sc;
+        } else {
+            mc_flux_front_sincos(f, s->rho_sq, sc);
+        }
         return MC_FAULT_NONE;
     }
     /* the uncommon case: finite estimates are published, and the sine
      * and cosine are those of the angle in *t (*t's address stays here:
      * isr_body) */
-    const uint32_t faults = mc_flux_front_fault(f, *s, *sp, theta_m, b);
+    const uint32_t faults =
+        mc_flux_front_fault(f, s->rho_sq, s->finite, sp->finite, theta_m,
+                            sp->omega_m_rad_s, sp->tau_L_Nm, b);
     if ((faults & MC_FAULT_NONFINITE) == 0u) {
-        mc_flux_front_publish(f, s->rho_sq, sp, theta_m, t);
+        mc_flux_front_publish(f, s->rho_sq, sp, angle_sc, theta_m, t);
     }
     mc_est_sincos_of(t->theta_e_rad, sc);
     return faults;

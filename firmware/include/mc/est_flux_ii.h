@@ -50,7 +50,7 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_ii_step(mc_est_flux_ii_t *est,
         .omega_m_rad_s = mc_speed_load_obs_omega_m_f32(&est->ii),
         .tau_L_Nm = mc_speed_load_obs_tau_L_f32(&est->ii),
     };
-    return mc_flux_front_finish(&est->front, in, &s, &sp, true, &est->ii.bounds,
+    return mc_flux_front_finish(&est->front, in, &s, &sp, NULL, &est->ii.bounds,
                                 t, sc);
 }
 

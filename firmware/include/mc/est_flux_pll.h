@@ -4,9 +4,11 @@
  * with speed and load-torque states (mc/pll_observer.h), the estimator of
  * the "NAM" baseline of paper 001 (Fig. 11). The angle is the PLL's. The
  * PLL's phase detector is the cross product of rho_hat = eta / Phi with
- * its predicted direction (mc_pll_obs_update_vector_f32), from the sine
- * and cosine of its last angle (kept here): the observer's own angle (13)
- * is not formed (no atan2, no wrap; mc_flux_front_update without it).
+ * its predicted direction (mc_pll_obs_update_vector_f32), and the PLL
+ * holds its angle as that direction: the observer's own angle (13) is not
+ * formed (no atan2, no wrap; mc_flux_front_update without it), the sine
+ * and cosine are the PLL's direction (no polynomial), and the angle, its
+ * arctangent, is formed only where the telemetry record is written.
  * Interface: mc/estimator.h.
  */
 #ifndef MC_EST_FLUX_PLL_H
@@ -28,8 +30,6 @@ typedef struct {
 typedef struct {
     mc_flux_front_t front;
     mc_pll_obs_f32_t pll;
-    float sin_prev, cos_prev; /* of the PLL's angle at the last sample (its
-                                 detector's reference) */
 } mc_est_flux_pll_t;
 
 MC_ESTIMATOR_INTERFACE(flux_pll);
@@ -47,25 +47,25 @@ MC_STATIC_FORCEINLINE uint32_t mc_est_flux_pll_step(mc_est_flux_pll_t *est,
     const mc_flux_front_sample_t s =
         mc_flux_front_update(&est->front, in, false);
     /* the PLL's cross-product detector on rho_hat = eta / Phi (13);
-     * electrical-torque feed-forward kt i_q over the interval */
+     * electrical-torque feed-forward kt i_q over the interval; its
+     * direction renormalised on the slow tick */
     float r_al;
     float r_be;
     mc_flux_obs_rho_f32(&est->front.obs, &r_al, &r_be);
     const float finite = mc_pll_obs_update_vector_f32(
-        &est->pll, r_al, r_be, est->sin_prev, est->cos_prev,
-        est->front.kt_Nm_per_A * s.i_q_mean_A);
+        &est->pll, r_al, r_be, est->front.kt_Nm_per_A * s.i_q_mean_A,
+        in->slow_tick);
     const mc_flux_front_speed_t sp = {
         .finite = finite,
-        .theta_e_rad = mc_pll_obs_theta_e_f32(&est->pll),
+        .theta_e_rad = 0.0f, /* unused: the direction pll_sc gives it */
         .d_theta_e_rad = mc_pll_obs_d_theta_e_f32(&est->pll),
         .omega_m_rad_s = mc_pll_obs_omega_m_f32(&est->pll),
         .tau_L_Nm = mc_pll_obs_tau_L_f32(&est->pll),
     };
-    const uint32_t faults = mc_flux_front_finish(
-        &est->front, in, &s, &sp, false, &est->pll.bounds, t, sc);
-    est->sin_prev = sc->sin_e;
-    est->cos_prev = sc->cos_e;
-    return faults;
+    mc_est_sincos_t pll_sc;
+    mc_pll_obs_sincos_f32(&est->pll, &pll_sc.sin_e, &pll_sc.cos_e);
+    return mc_flux_front_finish(&est->front, in, &s, &sp, &pll_sc,
+                                &est->pll.bounds, t, sc);
 }
 
 #endif /* MC_EST_FLUX_PLL_H */

@@ -1,12 +1,16 @@
 /*
  * Angle utilities against double-precision libm references:
  * wrap/diff, sincos and atan2 error bounds over the whole accepted range,
- * and the unwrap operator A on long ramps (exact turn count).
+ * the rotation of a direction by a small angle and its renormalisation,
+ * the tracking loops' near wrap (bit for bit the full wrap), and the unwrap
+ * operator A on long ramps (exact turn count).
  */
 #include "mc_test.h"
 
 #include <float.h>
 #include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -297,6 +301,148 @@ static void test_sincos_small(void **state)
     }
 }
 
+/* mc_rotate_unit_f32 against the exact rotation in double, from
+ * directions all round: the series for |delta| <= MC_ROTATE_SERIES_MAX_RAD
+ * (the angle error of the result within |delta|^5 / 30 plus float
+ * rounding, 1.5e-7 rad; its length short of 1 by at most delta^4 / 24 plus
+ * rounding), the sine and cosine beyond (angle within 3e-7 rad, length
+ * within 3e-7); NaN and Inf give NaN. mc_renormalise_unit_f32 brings a
+ * length within 1e-3 of 1 to 1 within its (3 / 8) (n - 1)^2 plus
+ * rounding. */
+static void test_rotate_unit(void **state)
+{
+    (void)state;
+    double max_series_err = 0.0;
+    double max_exact_err = 0.0;
+    for (int a = 0; a < 64; a++) {
+        const double alpha = -MC_TEST_PI + (double)a * (MC_TEST_TWO_PI / 64.0) + 0.01;
+        for (double d = -0.5; d <= 0.5; d += 1.7e-4) {
+            const float delta = (float)d;
+            float s = (float)sin(alpha);
+            float c = (float)cos(alpha);
+            const double a_in = atan2((double)s, (double)c);
+            mc_rotate_unit_f32(delta, &s, &c);
+            const double len = hypot((double)s, (double)c);
+            const double ang_err =
+                fabs(remainder(atan2((double)s, (double)c) - a_in - (double)delta, MC_TEST_TWO_PI));
+            if (fabs((double)delta) <= (double)MC_ROTATE_SERIES_MAX_RAD) {
+                const double d4 = pow((double)delta, 4.0);
+                const double err = ang_err - fabs(pow((double)delta, 5.0)) / 30.0;
+                max_series_err = fmax(max_series_err, err);
+                assert_true(err <= 1.5e-7);
+                assert_true(len <= 1.0 + 2e-7 && len >= 1.0 - d4 / 24.0 - 2e-7);
+            } else {
+                max_exact_err = fmax(max_exact_err, ang_err);
+                assert_true(ang_err <= 3e-7);
+                assert_true(fabs(len - 1.0) <= 3e-7);
+            }
+        }
+    }
+    printf("rotate_unit: series angle error beyond its bound %.3g rad, exact %.3g rad\n",
+           max_series_err, max_exact_err);
+    const float bad[] = { NAN, INFINITY, -INFINITY };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        float s = 0.6f;
+        float c = 0.8f;
+        mc_rotate_unit_f32(bad[k], &s, &c);
+        assert_true(isnan(s) && isnan(c));
+    }
+    for (double l = 0.999; l <= 1.001; l += 1e-5) {
+        float s = (float)(l * sin(0.7));
+        float c = (float)(l * cos(0.7));
+        mc_renormalise_unit_f32(&s, &c);
+        assert_true(fabs(hypot((double)s, (double)c) - 1.0) <=
+                    0.375 * pow(l * l - 1.0, 2.0) + 2e-7);
+        assert_near(atan2((double)s, (double)c), 0.7, 2e-7);
+    }
+}
+
+/* Bit equality; any NaN equals any NaN. */
+static bool same_float(float a, float b)
+{
+    return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
+}
+
+static float float_of_bits(uint32_t u)
+{
+    float x;
+    memcpy(&x, &u, sizeof x);
+    return x;
+}
+
+static uint32_t bits_of_float(float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+/* Both signs of every step-th float of [lo, hi] (lo, hi >= 0): the number of
+ * inputs where mc_wrap_pi_near_f32 and mc_wrap_pi_f32 differ. */
+static long wrap_mismatches(float lo, float hi, uint32_t step, long *checked)
+{
+    long bad = 0;
+    for (uint32_t u = bits_of_float(lo); u <= bits_of_float(hi); u += step) {
+        for (int sign = 0; sign < 2; sign++) {
+            const float x = float_of_bits(u | (sign ? 0x80000000u : 0u));
+            if (!same_float(mc_wrap_pi_near_f32(x), mc_wrap_pi_f32(x))) {
+                if (bad < 5) {
+                    printf("wrap near %a: %a, wrap %a\n", (double)x, (double)mc_wrap_pi_near_f32(x),
+                           (double)mc_wrap_pi_f32(x));
+                }
+                bad++;
+            }
+            (*checked)++;
+        }
+    }
+    return bad;
+}
+
+/* mc_wrap_pi_near_f32, the wrap of the tracking loops (the I&I
+ * increment, the flux front end's position, the encoder tracker), returns
+ * mc_wrap_pi_f32's float for every input: EVERY float with
+ * pi <= |theta| <= 4 pi (the loops' angles stay within 3 pi; there the
+ * reduction by +-2 pi is the same three subtractions), every 1009th float
+ * inside (-pi, pi) (returned as they are by both), every 4099th up to
+ * beyond the accepted range (left to mc_wrap_pi_f32), and the edges. */
+static void test_wrap_near_equals_wrap(void **state)
+{
+    (void)state;
+    long checked = 0;
+    long bad = wrap_mismatches(MC_PI_F, 4.0f * MC_PI_F, 1u, &checked);
+    bad += wrap_mismatches(0.0f, MC_PI_F, 1009u, &checked);
+    bad += wrap_mismatches(4.0f * MC_PI_F, 2.0f * MC_ANGLE_MAX_ABS_RAD, 4099u, &checked);
+    /* the edges: each value, its neighbours, both signs */
+    const float base[] = { 0.0f,
+                           FLT_TRUE_MIN,
+                           FLT_MIN,
+                           MC_PI_F,
+                           MC_TWO_PI_F,
+                           (float)(3.0 * MC_TEST_PI),
+                           MC_ANGLE_MAX_ABS_RAD,
+                           1e30f,
+                           FLT_MAX,
+                           INFINITY,
+                           NAN };
+    for (size_t k = 0; k < sizeof base / sizeof base[0]; k++) {
+        const float x[3] = { base[k], nextafterf(base[k], 0.0f), nextafterf(base[k], INFINITY) };
+        for (int m = 0; m < 6; m++) {
+            const float e = (m < 3) ? x[m] : -x[m - 3];
+            assert_true(same_float(mc_wrap_pi_near_f32(e), mc_wrap_pi_f32(e)));
+        }
+    }
+    printf("wrap near: %ld inputs, %ld differ\n", checked, bad);
+    assert_int_equal(bad, 0);
+    /* and the diff of two wrapped angles, on a grid with both ends */
+    for (int i = 0; i <= 1000; i++) {
+        const float a = (i == 1000) ? MC_PI_F : -MC_PI_F + (float)i * (MC_TWO_PI_F / 1000.0f);
+        for (int j = 0; j <= 1000; j++) {
+            const float b = (j == 1000) ? MC_PI_F : -MC_PI_F + (float)j * (MC_TWO_PI_F / 1000.0f);
+            assert_true(same_float(mc_angle_diff_near_f32(a, b), mc_angle_diff_f32(a, b)));
+        }
+    }
+}
+
 /* ---- unwrap (operator A) ------------------------------------------------- */
 
 /* Feed the wrapped (float) version of a double angle sequence and check
@@ -417,6 +563,8 @@ int main(void)
         cmocka_unit_test(test_atan2_special_inputs),
         cmocka_unit_test(test_atan2_small),
         cmocka_unit_test(test_sincos_small),
+        cmocka_unit_test(test_rotate_unit),
+        cmocka_unit_test(test_wrap_near_equals_wrap),
         cmocka_unit_test(test_unwrap_10000_turns_forward_and_backward),
         cmocka_unit_test(test_unwrap_uniform_ramp_through_pi),
         cmocka_unit_test(test_unwrap_non_finite_and_counter_limit),
