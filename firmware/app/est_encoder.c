@@ -1,6 +1,8 @@
 /* Estimator "encoder" (mc/est_encoder.h). */
 #include "mc/est_encoder.h"
 
+#include <math.h>
+
 #include "mc/config.h"
 
 const mc_param_t mc_est_encoder_params[] = {
@@ -36,6 +38,9 @@ mc_status_t mc_est_encoder_init(mc_est_encoder_t *est, const mc_config_t *cfg,
      * comes first; the rotor cannot double its speed within the PLL lag),
      * under half a turn per sample (mc/encoder_tracker.h). */
     const mc_est_encoder_config_t *c = &cfg->encoder;
+    /* no sample yet: a rotation before the first step gives NaN (a
+     * fault), never an angle of zero */
+    est->sc_last = (mc_est_sincos_t){ .sin_e = NAN, .cos_e = NAN };
     return mc_encoder_tracker_init_f32(
         &est->tracker, c->counts_per_rev, cfg->motor.pole_pairs,
         c->offset_e_rad, c->pll_bandwidth_rad_s,

@@ -76,6 +76,9 @@ typedef struct {
 typedef struct {
     float theta_m_rad;   /* multi-turn mechanical position */
     float theta_e_rad;   /* electrical angle in (-pi, pi] */
+    float d_theta_e_rad; /* its change since the last sample, n_p times the
+                            count difference times 2 pi / cpr (not wrapped;
+                            0 on the priming sample) */
     float omega_m_rad_s; /* mechanical speed estimate */
     bool count_jump;     /* the count stepped more than step_max_counts */
 } mc_encoder_estimate_t;
@@ -168,6 +171,9 @@ MC_STATIC_FORCEINLINE mc_status_t mc_encoder_tracker_update_inline_f32(
                                   : (int32_t)count_e;
     out->theta_e_rad = mc_wrap_pi_near_f32(
         ((float)count_e_c + et->e_origin_counts) * et->rad_per_count);
+    /* n_p |delta| < n_p cpr / 2 <= 2^28: exact in int32 */
+    out->d_theta_e_rad =
+        (float)(delta * (int32_t)et->pole_pairs) * et->rad_per_count;
     out->omega_m_rad_s = et->omega_hat_rad_s;
     return MC_OK;
 }

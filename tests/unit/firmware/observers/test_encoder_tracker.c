@@ -1,9 +1,8 @@
 /*
  * Encoder tracker (mc/encoder_tracker.h, firmware/observers/encoder_tracker.c)
  * against an independent double-precision reference: multi-turn position,
- * electrical angle, speed from the tracking PLL; the parameter ranges (CPR
- * in [4, 2^23], the float-exactness limit); the position's conversion to
- * float.
+ * electrical angle and its change per sample, speed from the tracking PLL; the parameter ranges
+ * (CPR in [4, 2^23], the float-exactness limit); the position's conversion to float.
  */
 #include "mc_test.h"
 
@@ -31,6 +30,7 @@ static void test_encoder_tracker(void **state)
                      MC_OK);
     const double speeds[2] = { 37.0, -37.0 };
     double theta = 1.0; /* true mechanical angle */
+    long c_prev = -1;   /* none before the priming sample */
     for (int leg = 0; leg < 2; ++leg) {
         for (int k = 0; k < 20000; ++k) { /* 1 s: ~6 turns */
             theta += speeds[leg] * TS;
@@ -47,6 +47,12 @@ static void test_encoder_tracker(void **state)
             const double d = remainder((double)est.theta_e_rad - th_e, MC_TEST_TWO_PI);
             assert_true(fabs(d) < 2e-5);
             assert_true(est.theta_e_rad <= MC_TEST_PI && est.theta_e_rad > -MC_TEST_PI);
+            /* the electrical angle's change: n_p times the count step
+             * (wrapped to half a turn), to the float's rounding */
+            const long dc = (c_prev < 0) ? 0 : lround(remainder((double)c - (double)c_prev, cpr));
+            const double d_e = n_p * (double)dc * MC_TEST_TWO_PI / cpr;
+            assert_true(fabs((double)est.d_theta_e_rad - d_e) <= 2e-7 * fabs(d_e));
+            c_prev = (long)c;
             if (k > 200) { /* 10 / w_pll after the start / reversal */
                 assert_true(fabs((double)est.omega_m_rad_s - speeds[leg]) <
                             0.01 * fabs(speeds[leg]));
