@@ -11,7 +11,6 @@
  */
 #include "mc_test.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
