@@ -76,29 +76,19 @@ static inline void mc_pi_set_limits_unchecked_f32(mc_pi_f32_t *pi,
     pi->out_max = out_max;
 }
 
-/* One controller sample on the limits [out_min, out_max] given here (a
- * caller that recomputes them every sample passes them instead of storing
- * them in *pi); returns the limited output u_k, *at_limit tells that it
- * sits on a limit (u_k <= out_min or u_k >= out_max). No finiteness
- * checks, for an ISR path that checks what it computes from the output: a
- * NaN or infinite error gives a NaN output (a NaN error also a NaN
- * integrator until the next reset); NaN limits leave the output
- * unlimited. Interrupt context: yes, bounded time, no division. */
+/* The uncommon case of the steps below: the output or the integrator
+ * not strictly inside [out_min, out_max] (or a non-finite error), with
+ * the step's p_term = kp error, integ = integrator + ki_Ts error and u =
+ * p_term + integ: conditional integration, the integrator's bound and the
+ * output limit (mc_pi_step_within_unchecked_f32); on a sample inside the
+ * limits it changes nothing (returns u, stores integ). Interrupt context:
+ * yes. */
 MC_STATIC_FORCEINLINE float
-mc_pi_step_within_unchecked_f32(mc_pi_f32_t *pi, float error, float out_min,
-                                float out_max, bool *at_limit)
+mc_pi_limit_unchecked_f32(mc_pi_f32_t *pi, float error, float p_term,
+                          float integ, float u, float out_min, float out_max,
+                          bool *at_limit)
 {
-    const float p_term = pi->kp * error;
-    float integ = pi->integrator + pi->ki_Ts * error;
-    float u = p_term + integ;
     *at_limit = false;
-    if (u > out_min && u < out_max && integ >= out_min && integ <= out_max) {
-        /* The common case: output strictly and integrator inside the
-         * limits, where 1. to 3. below change nothing. (The error is
-         * finite here: an infinite one makes u infinite or NaN.) */
-        pi->integrator = integ;
-        return u;
-    }
     /* 1. conditional integration: stop where the output meets the limit */
     if (error > 0.0f && u > out_max) {
         const float to_limit = out_max - p_term;
@@ -129,6 +119,33 @@ mc_pi_step_within_unchecked_f32(mc_pi_f32_t *pi, float error, float out_min,
     return u - (error - error);
 }
 
+/* One controller sample on the limits [out_min, out_max] given here (a
+ * caller that recomputes them every sample passes them instead of storing
+ * them in *pi); returns the limited output u_k, *at_limit tells that it
+ * sits on a limit (u_k <= out_min or u_k >= out_max). No finiteness
+ * checks, for an ISR path that checks what it computes from the output: a
+ * NaN or infinite error gives a NaN output (a NaN error also a NaN
+ * integrator until the next reset); NaN limits leave the output
+ * unlimited. Interrupt context: yes, bounded time, no division. */
+MC_STATIC_FORCEINLINE float
+mc_pi_step_within_unchecked_f32(mc_pi_f32_t *pi, float error, float out_min,
+                                float out_max, bool *at_limit)
+{
+    const float p_term = pi->kp * error;
+    const float integ = pi->integrator + pi->ki_Ts * error;
+    const float u = p_term + integ;
+    if (u > out_min && u < out_max && integ >= out_min && integ <= out_max) {
+        /* The common case: output strictly and integrator inside the
+         * limits, where mc_pi_limit_unchecked_f32 changes nothing. (The
+         * error is finite here: an infinite one makes u infinite or NaN.) */
+        *at_limit = false;
+        pi->integrator = integ;
+        return u;
+    }
+    return mc_pi_limit_unchecked_f32(pi, error, p_term, integ, u, out_min,
+                                     out_max, at_limit);
+}
+
 /* mc_pi_step_within_unchecked_f32 on the limits [centre - half,
  * centre + half] (half > 0), its common case tested as |u - centre| <
  * half and |integrator - centre| <= half: two comparisons instead of
@@ -140,15 +157,18 @@ MC_STATIC_FORCEINLINE float
 mc_pi_step_centred_unchecked_f32(mc_pi_f32_t *pi, float error, float centre,
                                  float half, bool *at_limit)
 {
+    const float p_term = pi->kp * error;
     const float integ = pi->integrator + pi->ki_Ts * error;
-    const float u = pi->kp * error + integ;
+    const float u = p_term + integ;
     if (MC_LIKELY(fabsf(u - centre) < half && fabsf(integ - centre) <= half)) {
         pi->integrator = integ;
         *at_limit = false;
         return u;
     }
-    return mc_pi_step_within_unchecked_f32(pi, error, centre - half,
-                                           centre + half, at_limit);
+    /* (a sample this test puts outside by a rounding of centre -+ half is
+     * inside for the limit stage, which then changes nothing) */
+    return mc_pi_limit_unchecked_f32(pi, error, p_term, integ, u, centre - half,
+                                     centre + half, at_limit);
 }
 
 /* The same on the limits stored in *pi. Interrupt context: yes. */
