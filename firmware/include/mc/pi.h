@@ -76,6 +76,17 @@ static inline void mc_pi_set_limits_unchecked_f32(mc_pi_f32_t *pi,
     pi->out_max = out_max;
 }
 
+/* A sample before any limit: *p_term = kp error, *integ = integrator +
+ * ki_Ts error; returns u = p_term + integ. Interrupt context: yes. */
+MC_STATIC_FORCEINLINE float mc_pi_unlimited_f32(const mc_pi_f32_t *pi,
+                                                float error, float *p_term,
+                                                float *integ)
+{
+    *p_term = pi->kp * error;
+    *integ = pi->integrator + pi->ki_Ts * error;
+    return *p_term + *integ;
+}
+
 /* The uncommon case of the steps below: the output or the integrator
  * not strictly inside [out_min, out_max] (or a non-finite error), with
  * the step's p_term = kp error, integ = integrator + ki_Ts error and u =
@@ -131,9 +142,9 @@ MC_STATIC_FORCEINLINE float
 mc_pi_step_within_unchecked_f32(mc_pi_f32_t *pi, float error, float out_min,
                                 float out_max, bool *at_limit)
 {
-    const float p_term = pi->kp * error;
-    const float integ = pi->integrator + pi->ki_Ts * error;
-    const float u = p_term + integ;
+    float p_term;
+    float integ;
+    const float u = mc_pi_unlimited_f32(pi, error, &p_term, &integ);
     if (u > out_min && u < out_max && integ >= out_min && integ <= out_max) {
         /* The common case: output strictly and integrator inside the
          * limits, where mc_pi_limit_unchecked_f32 changes nothing. (The
@@ -157,9 +168,9 @@ MC_STATIC_FORCEINLINE float
 mc_pi_step_centred_unchecked_f32(mc_pi_f32_t *pi, float error, float centre,
                                  float half, bool *at_limit)
 {
-    const float p_term = pi->kp * error;
-    const float integ = pi->integrator + pi->ki_Ts * error;
-    const float u = p_term + integ;
+    float p_term;
+    float integ;
+    const float u = mc_pi_unlimited_f32(pi, error, &p_term, &integ);
     if (MC_LIKELY(fabsf(u - centre) < half && fabsf(integ - centre) <= half)) {
         pi->integrator = integ;
         *at_limit = false;
