@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "mc/compiler.h"
+#include "mc/park.h"
 #include "mc/status.h"
 
 #define MC_PI_F      3.14159265358979323846f
@@ -271,10 +272,12 @@ MC_STATIC_FORCEINLINE void mc_rotate_unit_f32(float delta, float *sin_io,
     } else {
         mc_sincos_f32(delta, &s_d, &c_d);
     }
-    const float s = *sin_io;
-    const float c = *cos_io;
-    *sin_io = s * c_d + c * s_d;
-    *cos_io = c * c_d - s * s_d;
+    /* the rotation by delta of the vector (c, s): mc_inv_park_f32's */
+    float c_new;
+    float s_new;
+    mc_inv_park_f32(*cos_io, *sin_io, s_d, c_d, &c_new, &s_new);
+    *sin_io = s_new;
+    *cos_io = c_new;
 }
 
 /* Scale the direction (*cos_io, *sin_io) of length near 1 to length 1 by

@@ -49,6 +49,7 @@
 
 #include "mc/angle.h"
 #include "mc/compiler.h"
+#include "mc/park.h"
 #include "mc/status.h"
 
 /* Valid sample-to-apply delays d, periods. */
@@ -108,10 +109,8 @@ mc_delay_comp_sincos_f32(const mc_delay_comp_f32_t *dc, float s_e, float c_e,
         *c_v = c_e;
         return;
     }
-    const float s_a = dc->sin_advance;
-    const float c_a = dc->cos_advance;
-    *s_v = s_e * c_a + c_e * s_a;
-    *c_v = c_e * c_a - s_e * s_a;
+    /* the rotation by the advance of the vector (c_e, s_e) */
+    mc_inv_park_f32(c_e, s_e, dc->sin_advance, dc->cos_advance, c_v, s_v);
 }
 
 typedef struct {
